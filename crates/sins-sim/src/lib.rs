@@ -1,0 +1,2 @@
+//! Turntable + thermal chamber + sensor simulator.
+pub mod scenario;
