@@ -11,8 +11,12 @@ pub mod earth;
 pub mod linear;
 pub mod mechanization;
 
+pub use alignment::{AlignmentConfig, AlignmentError, AlignmentResult, SelfAlignment};
 pub use attitude::{Euler, enu_from_body_euler, ned_from_body_euler};
-pub use earth::{Geodetic, Wgs84};
+pub use earth::{EarthAt, Geodetic, Wgs84};
+pub use mechanization::{
+    ConingOrder, Increment, NavState, Strapdown, StrapdownConfig, VerticalChannel,
+};
 
 /// 3-vector of f64 (SI units, frame given by the variable name).
 pub type Vec3 = nalgebra::Vector3<f64>;

@@ -1,1 +1,304 @@
-//! (being written)
+//! High-precision strapdown mechanization on angular and velocity increments in the NED frame.
+//!
+//! One navigation update consumes `N` consecutive samples (the "N-sample" algorithms of Savage
+//! and Ignagni): the body attitude is advanced by the rotation vector
+//! `φ = Σθ_i + Σ_{i<j} k_ij θ_i × θ_j` (coning compensation), the specific-force increment in
+//! the body frame is `ΔV = Σv_i + ½ Σθ × Σv + Σ_{i<j} k_ij (θ_i × v_j + v_i × θ_j)` (rotation and
+//! sculling compensation), the navigation frame is rotated by `ω_in^n T`, and gravity and
+//! Coriolis are applied at the midpoint of the update. Position (latitude, longitude, height) is
+//! integrated with the trapezoidal velocity. `ConingOrder::OnePlusPrevious` updates every sample
+//! using the previous sample for the cross-product terms (coefficient 1/12).
+
+use crate::attitude::quat_from_rotation_vector;
+use crate::earth::{EarthAt, Geodetic};
+use crate::{Quat, Vec3};
+
+/// One IMU increment pair over a sample interval (rad, m/s), already compensated.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Increment {
+    /// Angular increment in the body frame (rad).
+    pub dtheta_rad: Vec3,
+    /// Velocity (specific-force) increment in the body frame (m/s).
+    pub dv_mps: Vec3,
+}
+
+/// The coning/sculling algorithm: how many samples one navigation update consumes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConingOrder {
+    /// Update every sample; cross products with the previous sample (1/12).
+    OnePlusPrevious,
+    /// Classic two-sample algorithm (2/3): update every 2 samples.
+    TwoSample,
+    /// Three-sample algorithm (33/80, 57/80): update every 3 samples.
+    ThreeSample,
+    /// Four-sample algorithm (Ignagni /945 coefficients): update every 4 samples.
+    FourSample,
+}
+
+impl ConingOrder {
+    /// Samples consumed per navigation update.
+    pub fn samples_per_update(self) -> usize {
+        match self {
+            ConingOrder::OnePlusPrevious => 1,
+            ConingOrder::TwoSample => 2,
+            ConingOrder::ThreeSample => 3,
+            ConingOrder::FourSample => 4,
+        }
+    }
+
+    /// Cross-product coefficients `k_ij` (i < j, 0-based sample indices) of this algorithm.
+    fn coefficients(self) -> &'static [(usize, usize, f64)] {
+        const K2: [(usize, usize, f64); 1] = [(0, 1, 2.0 / 3.0)];
+        const K3: [(usize, usize, f64); 3] = [
+            (0, 1, 57.0 / 80.0),
+            (1, 2, 57.0 / 80.0),
+            (0, 2, 33.0 / 80.0),
+        ];
+        const K4: [(usize, usize, f64); 6] = [
+            (0, 1, 736.0 / 945.0),
+            (2, 3, 736.0 / 945.0),
+            (0, 2, 334.0 / 945.0),
+            (1, 3, 334.0 / 945.0),
+            (0, 3, 526.0 / 945.0),
+            (1, 2, 654.0 / 945.0),
+        ];
+        match self {
+            ConingOrder::OnePlusPrevious => &[],
+            ConingOrder::TwoSample => &K2,
+            ConingOrder::ThreeSample => &K3,
+            ConingOrder::FourSample => &K4,
+        }
+    }
+}
+
+/// Vertical-channel treatment. Pure inertial height is unstable (time constant ≈ 13 min), so
+/// turntable experiments hold or damp it to the known site height.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum VerticalChannel {
+    /// Pure inertial (unstable); for filters that observe height themselves.
+    Free,
+    /// Height fixed at `height_m`, vertical velocity zero.
+    Hold {
+        /// Reference height (m).
+        height_m: f64,
+    },
+    /// Second-order critically damped loop towards `height_m` with time constant `tau_s`:
+    /// `ḣ = -v_D - (2/τ) δh`, `v̇_D = … + (1/τ²) δh`.
+    Damped {
+        /// Reference height (m).
+        height_m: f64,
+        /// Loop time constant (s).
+        tau_s: f64,
+    },
+}
+
+/// Mechanization settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrapdownConfig {
+    /// Sample interval of the increments (s).
+    pub sample_interval_s: f64,
+    /// Coning/sculling algorithm.
+    pub coning: ConingOrder,
+    /// Vertical channel.
+    pub vertical: VerticalChannel,
+}
+
+/// Navigation state: attitude, NED velocity, geodetic position and time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NavState {
+    /// Time of validity (s).
+    pub t_s: f64,
+    /// Attitude `ned_from_body`.
+    pub ned_from_body: Quat,
+    /// Velocity over the Earth in NED (m/s).
+    pub vel_ned_mps: Vec3,
+    /// Position.
+    pub position: Geodetic,
+}
+
+impl NavState {
+    /// State at rest at `position` with attitude `ned_from_body` at time `t_s`.
+    pub fn at_rest(t_s: f64, ned_from_body: Quat, position: Geodetic) -> Self {
+        Self {
+            t_s,
+            ned_from_body,
+            vel_ned_mps: Vec3::zeros(),
+            position,
+        }
+    }
+}
+
+/// Strapdown integrator. Feed compensated increments with [`Strapdown::push`]; the state
+/// advances once every `coning.samples_per_update()` samples.
+#[derive(Clone, Debug)]
+pub struct Strapdown {
+    config: StrapdownConfig,
+    state: NavState,
+    prev_vel_ned_mps: Vec3,
+    buffer: [Increment; 4],
+    n_buffered: usize,
+    previous: Option<Increment>,
+    last_specific_force_ned_mps2: Vec3,
+}
+
+impl Strapdown {
+    /// Integrator starting from `state`.
+    pub fn new(config: StrapdownConfig, state: NavState) -> Self {
+        Self {
+            config,
+            prev_vel_ned_mps: state.vel_ned_mps,
+            state,
+            buffer: [Increment::default(); 4],
+            n_buffered: 0,
+            previous: None,
+            last_specific_force_ned_mps2: Vec3::zeros(),
+        }
+    }
+
+    /// Current navigation state (valid at the last completed update).
+    pub fn state(&self) -> &NavState {
+        &self.state
+    }
+
+    /// Mutable state, for closed-loop corrections by a filter.
+    pub fn state_mut(&mut self) -> &mut NavState {
+        &mut self.state
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &StrapdownConfig {
+        &self.config
+    }
+
+    /// Mean specific force in NED over the last update (m/s^2), for error-state filters.
+    pub fn specific_force_ned_mps2(&self) -> Vec3 {
+        self.last_specific_force_ned_mps2
+    }
+
+    /// Samples waiting for the next update.
+    pub fn pending_samples(&self) -> usize {
+        self.n_buffered
+    }
+
+    /// Add one sample; returns true when it completed a navigation update.
+    #[inline]
+    pub fn push(&mut self, inc: &Increment) -> bool {
+        self.buffer[self.n_buffered] = *inc;
+        self.n_buffered += 1;
+        if self.n_buffered < self.config.coning.samples_per_update() {
+            return false;
+        }
+        self.n_buffered = 0;
+        let (phi, dv_body) = self.compensated_increments();
+        self.advance(&phi, &dv_body);
+        true
+    }
+
+    /// Coning-compensated rotation vector and rotation/sculling-compensated velocity increment
+    /// of the buffered samples (body frame).
+    fn compensated_increments(&mut self) -> (Vec3, Vec3) {
+        let n = self.config.coning.samples_per_update();
+        let s = &self.buffer[..n];
+        let theta: Vec3 = s.iter().map(|i| i.dtheta_rad).sum();
+        let v: Vec3 = s.iter().map(|i| i.dv_mps).sum();
+        let mut coning = Vec3::zeros();
+        let mut sculling = Vec3::zeros();
+        if self.config.coning == ConingOrder::OnePlusPrevious {
+            let cur = s[0];
+            if let Some(p) = self.previous {
+                coning = p.dtheta_rad.cross(&cur.dtheta_rad) / 12.0;
+                sculling =
+                    (p.dtheta_rad.cross(&cur.dv_mps) + p.dv_mps.cross(&cur.dtheta_rad)) / 12.0;
+            }
+            self.previous = Some(cur);
+        } else {
+            for &(i, j, k) in self.config.coning.coefficients() {
+                coning += k * s[i].dtheta_rad.cross(&s[j].dtheta_rad);
+                sculling +=
+                    k * (s[i].dtheta_rad.cross(&s[j].dv_mps) + s[i].dv_mps.cross(&s[j].dtheta_rad));
+            }
+        }
+        (theta + coning, v + 0.5 * theta.cross(&v) + sculling)
+    }
+
+    /// Advance the state by one update with body rotation vector `phi` and compensated body
+    /// velocity increment `dv_body`.
+    fn advance(&mut self, phi: &Vec3, dv_body: &Vec3) {
+        let n = self.config.coning.samples_per_update() as f64;
+        let t = self.config.sample_interval_s * n;
+        let vertical_ref_m = self.vertical_reference(self.state.position.height_m);
+        let st = &mut self.state;
+        // Midpoint extrapolation of velocity and position for the Earth terms.
+        let v_mid = st.vel_ned_mps + 0.5 * (st.vel_ned_mps - self.prev_vel_ned_mps);
+        let earth0 = EarthAt::new(st.position.lat_rad, st.position.height_m);
+        let lat_mid = st.position.lat_rad + 0.5 * t * v_mid.x / earth0.meridian_plus_h_m;
+        let h_mid = st.position.height_m - 0.5 * t * v_mid.z;
+        let earth = EarthAt::new(lat_mid, h_mid);
+        let w_ie = earth.earth_rate_ned_radps;
+        let w_en = earth.transport_rate_ned_radps(&v_mid);
+        let zeta = (w_ie + w_en) * t;
+
+        // Specific-force increment in the navigation frame at k-1, rotated to the midpoint.
+        let dv_sf_prev = st.ned_from_body * dv_body;
+        let dv_sf = dv_sf_prev - 0.5 * zeta.cross(&dv_sf_prev);
+        self.last_specific_force_ned_mps2 = dv_sf / t;
+        let mut dv_gcor = (earth.gravity_ned_mps2() - (2.0 * w_ie + w_en).cross(&v_mid)) * t;
+
+        let v_old = st.vel_ned_mps;
+        let h_err = st.position.height_m - vertical_ref_m;
+        if let VerticalChannel::Damped { tau_s, .. } = self.config.vertical {
+            dv_gcor.z += h_err / (tau_s * tau_s) * t;
+        }
+        let mut v_new = v_old + dv_sf + dv_gcor;
+
+        // Attitude: q_n(k)b(k) = q_n(k)n(k-1) ⊗ q_n(k-1)b(k-1) ⊗ q_b(k-1)b(k).
+        let q_nn = quat_from_rotation_vector(&(-zeta));
+        let q_bb = quat_from_rotation_vector(phi);
+        st.ned_from_body = Quat::new_normalize((q_nn * st.ned_from_body * q_bb).into_inner());
+
+        // Position with trapezoidal velocity.
+        let v_avg = 0.5 * (v_old + v_new);
+        let lat = st.position.lat_rad + t * v_avg.x / earth.meridian_plus_h_m;
+        let lon = st.position.lon_rad + t * v_avg.y / (earth.transverse_plus_h_m * earth.cos_lat);
+        let mut h = st.position.height_m - t * v_avg.z;
+        match self.config.vertical {
+            VerticalChannel::Free => {}
+            VerticalChannel::Hold { height_m } => {
+                v_new.z = 0.0;
+                h = height_m;
+            }
+            VerticalChannel::Damped { tau_s, .. } => h -= 2.0 / tau_s * h_err * t,
+        }
+        self.prev_vel_ned_mps = v_old;
+        st.vel_ned_mps = v_new;
+        st.position = Geodetic {
+            lat_rad: lat,
+            lon_rad: lon,
+            height_m: h,
+        };
+        st.t_s += t;
+    }
+
+    fn vertical_reference(&self, current_m: f64) -> f64 {
+        match self.config.vertical {
+            VerticalChannel::Free => current_m,
+            VerticalChannel::Hold { height_m } | VerticalChannel::Damped { height_m, .. } => {
+                height_m
+            }
+        }
+    }
+
+    /// Apply a closed-loop correction: attitude error `phi_ned_rad` (defined by
+    /// `C_est = (I - [φ×]) C_true`), velocity error and position error (est - true).
+    pub fn correct(&mut self, phi_ned_rad: &Vec3, dvel_ned_mps: &Vec3, dpos: Option<&Geodetic>) {
+        let st = &mut self.state;
+        st.ned_from_body = quat_from_rotation_vector(phi_ned_rad) * st.ned_from_body;
+        st.vel_ned_mps -= dvel_ned_mps;
+        self.prev_vel_ned_mps -= dvel_ned_mps;
+        if let Some(d) = dpos {
+            st.position.lat_rad -= d.lat_rad;
+            st.position.lon_rad -= d.lon_rad;
+            st.position.height_m -= d.height_m;
+        }
+    }
+}
