@@ -226,10 +226,10 @@ impl SelfAlignment {
     }
 
     /// Result of a completed alignment.
-    pub fn finish(self) -> Result<AlignmentResult, AlignmentError> {
+    pub fn finish(&self) -> Result<AlignmentResult, AlignmentError> {
         let h = self.nav_config.sample_interval_s;
         let (Some(coarse), Some(fine), true) =
-            (self.coarse, self.fine, self.n_seen >= self.n_total)
+            (self.coarse, self.fine.as_ref(), self.n_seen >= self.n_total)
         else {
             return Err(AlignmentError::TooShort {
                 needed_s: self.n_total as f64 * h,

@@ -1,0 +1,158 @@
+//! The replay state machine: compensation → (alignment) → navigation → 1 Hz error points.
+
+use crate::metrics::{ErrorPoint, ReplaySummary};
+use sins_imu::{Compensator, ImuSample};
+use sins_nav::alignment::{AlignmentConfig, AlignmentError, SelfAlignment};
+use sins_nav::{Geodetic, Increment, NavState, Strapdown, StrapdownConfig};
+
+/// How navigation starts.
+#[derive(Clone, Copy, Debug)]
+pub enum Start {
+    /// Stationary self-alignment over the first `duration_s` of the data (paper: 20 min).
+    SelfAlign(AlignmentConfig),
+    /// A known initial state (e.g. the simulator's truth), valid at the start of the data.
+    Known(NavState),
+}
+
+/// Replay settings.
+#[derive(Clone, Copy, Debug)]
+pub struct ReplayConfig {
+    /// Mechanization (sample interval, coning algorithm, vertical channel).
+    pub nav: StrapdownConfig,
+    /// How navigation starts.
+    pub start: Start,
+    /// Interval of the error output (s), e.g. 1 Hz.
+    pub output_interval_s: f64,
+}
+
+/// Errors of a replay.
+#[derive(Debug, thiserror::Error)]
+pub enum ReplayError {
+    /// The alignment stage failed.
+    #[error(transparent)]
+    Alignment(#[from] AlignmentError),
+    /// The parameter set needs temperatures that the data lack.
+    #[error("sample at t = {t_s} s has no accelerometer temperatures, but the parameter set has temperature terms")]
+    MissingTemperature {
+        /// Time of the offending sample (s).
+        t_s: f64,
+    },
+    /// No navigation happened (data shorter than the alignment).
+    #[error("no navigation output: the data end before alignment completes ({0})")]
+    NoOutput(String),
+}
+
+enum Phase {
+    Aligning(Box<SelfAlignment>),
+    Navigating(Strapdown),
+}
+
+/// Streaming replay: feed samples in time order with [`Replay::push`], then [`Replay::finish`].
+pub struct Replay {
+    config: ReplayConfig,
+    compensator: Compensator,
+    site: Geodetic,
+    phase: Phase,
+    points: Vec<ErrorPoint>,
+    samples_per_output: usize,
+    nav_samples: usize,
+    nav_start_s: f64,
+}
+
+impl Replay {
+    /// Replay at the fixed `site` with samples starting at `t0_s` (the start of the first
+    /// sample interval).
+    pub fn new(config: ReplayConfig, compensator: Compensator, site: Geodetic, t0_s: f64) -> Self {
+        let phase = match config.start {
+            Start::SelfAlign(a) => Phase::Aligning(Box::new(SelfAlignment::new(a, config.nav, site, t0_s))),
+            Start::Known(state) => Phase::Navigating(Strapdown::new(config.nav, state)),
+        };
+        let h = config.nav.sample_interval_s;
+        Self {
+            samples_per_output: ((config.output_interval_s / h).round() as usize).max(1),
+            config,
+            compensator,
+            site,
+            phase,
+            points: Vec::new(),
+            nav_samples: 0,
+            nav_start_s: t0_s,
+        }
+    }
+
+    /// Feed one raw sample with its segment index.
+    #[inline]
+    pub fn push(&mut self, s: &ImuSample, segment: u16) -> Result<(), ReplayError> {
+        let h = self.config.nav.sample_interval_s;
+        let temp = &s.temp_degc;
+        if self.compensator.uses_temperature() && !(temp[0].is_finite() && temp[1].is_finite() && temp[2].is_finite()) {
+            return Err(ReplayError::MissingTemperature { t_s: s.t_s });
+        }
+        let inc = Increment {
+            dtheta_rad: self.compensator.dtheta_rad(&s.dtheta_rad, h),
+            dv_mps: self.compensator.dv_mps(&s.dv_mps, h, temp),
+        };
+        match &mut self.phase {
+            Phase::Aligning(a) => {
+                if a.push(&inc)? {
+                    let result = a.finish()?;
+                    self.nav_start_s = result.state.t_s;
+                    self.phase = Phase::Navigating(Strapdown::new(self.config.nav, result.state));
+                }
+            }
+            Phase::Navigating(nav) => {
+                nav.push(&inc);
+                self.nav_samples += 1;
+                if self.nav_samples % self.samples_per_output == 0 && nav.pending_samples() == 0 {
+                    let st = nav.state();
+                    let d = st.position.ned_offset_from_m(&self.site);
+                    self.points.push(ErrorPoint {
+                        t_s: st.t_s,
+                        north_m: d.x,
+                        east_m: d.y,
+                        vel_n_mps: st.vel_ned_mps.x,
+                        vel_e_mps: st.vel_ned_mps.y,
+                        segment,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Feed a batch of samples with per-sample segment indices (or all segment 0).
+    pub fn push_batch(&mut self, samples: &[ImuSample], segments: Option<&[u16]>) -> Result<(), ReplayError> {
+        match segments {
+            Some(seg) => samples.iter().zip(seg).try_for_each(|(s, &g)| self.push(s, g)),
+            None => samples.iter().try_for_each(|s| self.push(s, 0)),
+        }
+    }
+
+    /// Error points so far.
+    pub fn points(&self) -> &[ErrorPoint] {
+        &self.points
+    }
+
+    /// Final navigation state, if navigating.
+    pub fn nav_state(&self) -> Option<&NavState> {
+        match &self.phase {
+            Phase::Navigating(n) => Some(n.state()),
+            Phase::Aligning(_) => None,
+        }
+    }
+
+    /// Finish: the error track and its summary.
+    pub fn finish(self) -> Result<(Vec<ErrorPoint>, ReplaySummary), ReplayError> {
+        match self.phase {
+            Phase::Aligning(a) => {
+                a.finish()?;
+                Err(ReplayError::NoOutput("alignment incomplete".into()))
+            }
+            Phase::Navigating(nav) => {
+                let navigated_s = nav.state().t_s - self.nav_start_s;
+                let summary = ReplaySummary::from_points(&self.points, navigated_s);
+                Ok((self.points, summary))
+            }
+        }
+    }
+}
