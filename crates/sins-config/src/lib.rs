@@ -1,1 +1,41 @@
-//! (being written)
+//! File formats of sinsbench, in human / paper units, and their conversion to the SI types of
+//! `sins-imu` and `sins-sim`:
+//!
+//! - **IMU parameter files** (TOML or JSON): the 30- or 42-state coefficient set of Wang et al.
+//!   2021 with keys named after the paper's symbols and units (`B_x_deg_per_h`, `dM_yx_arcsec`,
+//!   `TK_z_ppm_per_degc`, ...), optionally with 1-sigma uncertainties. [`load_params`],
+//!   [`parse_params_toml`], [`parse_params_json`], [`params_to_toml`], [`params_to_json`] (writing
+//!   then reading is bit-exact in SI) and [`coefficient_table`] for reports.
+//! - **Experiment files** (TOML): site, sampling, truth IMU and noise, thermal chamber, turntable
+//!   motion program and one or more runs; [`load_experiment`] turns each run into a
+//!   [`sins_sim::scenario::Scenario`].
+//!
+//! Every error names the file, the key path (`motion.segment[3].duration_s`) and, for TOML, the
+//! line. The schema is documented in `experiments/README.md`.
+
+#![warn(missing_docs)]
+
+mod bigint;
+mod coefficients;
+mod csv;
+mod ctx;
+mod error;
+mod exact;
+mod experiment;
+mod motion;
+mod params;
+mod params_write;
+mod thermal;
+mod toml_util;
+pub mod units;
+
+pub use coefficients::{Coefficient, coefficient_table};
+pub use error::ConfigError;
+pub use experiment::{EXPERIMENT_SCHEMA, Experiment, load_experiment};
+pub use motion::motion_duration_s;
+pub use params::{
+    ParamFormat, ParamSet, load_params, model_name, parse_params_json, parse_params_toml,
+};
+pub use params_write::{params_to_json, params_to_toml, write_params};
+pub use thermal::chamber_duration_s;
+pub use units::PaperUnit;

@@ -222,10 +222,20 @@ impl Strapdown {
     }
 
     /// Advance the state by one update with body rotation vector `phi` and compensated body
-    /// velocity increment `dv_body`.
+    /// velocity increment `dv_body` over the algorithm's update interval.
     fn advance(&mut self, phi: &Vec3, dv_body: &Vec3) {
-        let n = self.config.coning.samples_per_update() as f64;
-        let t = self.config.sample_interval_s * n;
+        let t = self.config.sample_interval_s * self.config.coning.samples_per_update() as f64;
+        self.advance_interval(phi, dv_body, t);
+    }
+
+    /// Advance the state over `interval_s` with an externally computed body rotation vector
+    /// `phi_body_rad` (attitude change `C_b(k-1)_b(k) = exp([φ×])`, coning included) and
+    /// body-frame specific-force velocity increment `dv_body_mps` resolved in the body frame at
+    /// the start of the interval (rotation and sculling included). Used by algorithms that
+    /// compute these increments themselves (e.g. high-order reconstructions); must not be mixed
+    /// with [`Strapdown::push`] while samples are pending.
+    pub fn advance_interval(&mut self, phi_body_rad: &Vec3, dv_body_mps: &Vec3, interval_s: f64) {
+        let (phi, dv_body, t) = (phi_body_rad, dv_body_mps, interval_s);
         let vertical_ref_m = self.vertical_reference(self.state.position.height_m);
         let st = &mut self.state;
         // Midpoint extrapolation of velocity and position for the Earth terms.

@@ -1,0 +1,102 @@
+//! `sinsbench bench`: the figures the issues ask for, each step in a child process so that its
+//! wall time and peak memory are its own.
+
+use crate::defaults;
+use anyhow::{Context, Result, bail};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Arguments of `bench`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Working directory for the benchmark datasets (about 1 GB per 15 h dataset).
+    #[arg(long, default_value = "out/bench")]
+    pub dir: PathBuf,
+    /// Keep the datasets afterwards.
+    #[arg(long)]
+    pub keep: bool,
+    /// Skip the error-free floor (four extra 15 h replays).
+    #[arg(long)]
+    pub no_floor: bool,
+}
+
+struct Measured {
+    wall_s: f64,
+    peak_rss_mb: f64,
+    stdout: String,
+}
+
+fn child(args: &[&str]) -> Result<Measured> {
+    let exe = std::env::current_exe().context("cannot find the sinsbench executable")?;
+    let out = Command::new(exe).args(args).args(["--quiet", "--stats"]).output()?;
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    if !out.status.success() {
+        bail!("sinsbench {} failed:\n{stderr}", args.join(" "));
+    }
+    let line = stderr.lines().rev().find(|l| l.starts_with("stats:")).context("child printed no stats line")?;
+    let field = |k: &str| -> f64 {
+        line.split_whitespace()
+            .find_map(|f| f.strip_prefix(k))
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(f64::NAN)
+    };
+    Ok(Measured {
+        wall_s: field("wall_s="),
+        peak_rss_mb: field("peak_rss_mb="),
+        stdout: String::from_utf8_lossy(&out.stdout).to_string(),
+    })
+}
+
+fn p(path: &Path) -> String {
+    path.display().to_string()
+}
+
+/// Run the benchmark and print its figures.
+pub fn run(args: Args, _quiet: bool) -> Result<()> {
+    let exp = defaults::experiments_dir();
+    std::fs::create_dir_all(&args.dir)?;
+    println!("sinsbench bench ({} logical CPUs)", std::thread::available_parallelism().map_or(0, |n| n.get()));
+
+    let nav_exp = exp.join("paper_navigation.toml");
+    let m = child(&["simulate", &p(&nav_exp), "--run", "nav1", "--out", &p(&args.dir)])?;
+    let dataset = args.dir.join("nav1.parquet");
+    let bytes = std::fs::metadata(&dataset).map(|m| m.len()).unwrap_or(0);
+    println!(
+        "simulate 15 h / 200 Hz (10.8 M samples, noise, thermal, Parquet): {:.2} s wall, peak RSS {:.0} MB, file {:.0} MB",
+        m.wall_s,
+        m.peak_rss_mb,
+        bytes as f64 / 1e6
+    );
+
+    let truth = exp.join("imu/paper_truth.toml");
+    let m = child(&["navigate", "--dataset", &p(&dataset), "--params", &p(&truth)])?;
+    println!(
+        "replay 15 h / 200 Hz (Parquet decode + 42-state compensation + alignment + 2-sample mechanization): {:.2} s wall, peak RSS {:.0} MB",
+        m.wall_s, m.peak_rss_mb
+    );
+    print!("{}", indent(&m.stdout));
+
+    if !args.no_floor {
+        let floor_exp = exp.join("error_free_navigation.toml");
+        let floor_dir = args.dir.join("floor");
+        let m = child(&["simulate", &p(&floor_exp), "--out", &p(&floor_dir)])?;
+        println!("simulate error-free 15 h: {:.2} s", m.wall_s);
+        let file = std::fs::read_dir(&floor_dir)?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .find(|f| f.extension().is_some_and(|x| x == "parquet"))
+            .context("the error-free experiment wrote no dataset")?;
+        for coning in ["1", "2", "3", "4"] {
+            let m = child(&["navigate", "--dataset", &p(&file), "--start", "truth", "--coning", coning])?;
+            println!("error-free floor, coning {coning} ({:.2} s):", m.wall_s);
+            print!("{}", indent(&m.stdout));
+        }
+    }
+    if !args.keep {
+        let _ = std::fs::remove_dir_all(&args.dir);
+    }
+    Ok(())
+}
+
+fn indent(s: &str) -> String {
+    s.lines().map(|l| format!("    {l}\n")).collect()
+}

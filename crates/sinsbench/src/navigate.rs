@@ -1,0 +1,178 @@
+//! `sinsbench navigate`: replay one dataset under one parameter set.
+
+use crate::progress;
+use anyhow::{Context, Result, bail};
+use polars::prelude::{Column, DataFrame};
+use sins_data::{DatasetInfo, DatasetReader};
+use sins_imu::{Compensator, ImuErrorParams, ParamModel};
+use sins_nav::alignment::AlignmentConfig;
+use sins_nav::{ConingOrder, Euler, NMI_M, NavState, StrapdownConfig, VerticalChannel, ned_from_body_euler};
+use sins_replay::{ErrorPoint, Replay, ReplayConfig, ReplaySummary, Start};
+use std::path::PathBuf;
+
+/// Arguments of `navigate`.
+#[derive(clap::Args, Clone)]
+pub struct Args {
+    /// Dataset to replay (Parquet or CSV in the sinsbench format; see README).
+    #[arg(long)]
+    pub dataset: PathBuf,
+    /// Parameter set to compensate with (TOML/JSON in the paper's units). Default: none (the
+    /// raw increments are used as they are).
+    #[arg(long)]
+    pub params: Option<PathBuf>,
+    /// How navigation starts: `align` = 20 min stationary self-alignment on the data itself;
+    /// `truth` = the initial attitude recorded in the dataset's metadata (simulated data).
+    #[arg(long, value_enum, default_value_t = StartMode::Align)]
+    pub start: StartMode,
+    /// Self-alignment time (s).
+    #[arg(long, default_value_t = 1200.0)]
+    pub align_s: f64,
+    /// Coning/sculling algorithm: samples per navigation update (1 = one sample plus the
+    /// previous one, 2 = classic two-sample, 3, 4).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=4))]
+    pub coning: u8,
+    /// Vertical channel: held at the site height (default, turntable runs), damped, or free.
+    #[arg(long, value_enum, default_value_t = Vertical::Hold)]
+    pub vertical: Vertical,
+    /// Write errors.parquet (1 Hz error track) here.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// Navigation start.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum StartMode {
+    /// Stationary self-alignment (coarse + zero-velocity Kalman filter).
+    Align,
+    /// Start from the recorded initial attitude at rest at the site.
+    Truth,
+}
+
+/// Vertical channel option.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum Vertical {
+    /// Height held at the site height.
+    Hold,
+    /// Second-order damping to the site height (100 s).
+    Damped,
+    /// Pure inertial (diverges).
+    Free,
+}
+
+/// Map the `--coning` number to the algorithm.
+pub fn coning_order(n: u8) -> ConingOrder {
+    match n {
+        1 => ConingOrder::OnePlusPrevious,
+        3 => ConingOrder::ThreeSample,
+        4 => ConingOrder::FourSample,
+        _ => ConingOrder::TwoSample,
+    }
+}
+
+/// Run `navigate`.
+pub fn run(args: Args, quiet: bool) -> Result<()> {
+    let (info, points, summary) = replay(&args, quiet)?;
+    print_summary(&info, &summary);
+    if let Some(dir) = &args.out {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        let path = dir.join("errors.parquet");
+        write_errors(&path, &info, &points)?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// Replay a dataset; returns its info, the 1 Hz error track and the summary.
+pub fn replay(args: &Args, quiet: bool) -> Result<(DatasetInfo, Vec<ErrorPoint>, ReplaySummary)> {
+    let mut reader = DatasetReader::open(&args.dataset)?;
+    let info = reader.info().clone();
+    let params = match &args.params {
+        Some(p) => sins_config::load_params(p)?.params,
+        None => ImuErrorParams::ideal(ParamModel::States30),
+    };
+    if params.model == ParamModel::States42 && !info.has_temperature {
+        bail!(
+            "{}: the dataset has no accelerometer temperature columns (temp_ax_degc, temp_ay_degc, temp_az_degc), \
+             but the parameter set {} is a 42-state set with temperature coefficients",
+            info.path.display(),
+            args.params.as_ref().map_or(String::new(), |p| p.display().to_string())
+        );
+    }
+    let compensator = Compensator::new(params).context("parameter set is singular (I + E not invertible)")?;
+    let h = info.meta.sample_interval_s();
+    let site = info.meta.site;
+    let vertical = match args.vertical {
+        Vertical::Hold => VerticalChannel::Hold { height_m: site.height_m },
+        Vertical::Damped => VerticalChannel::Damped { height_m: site.height_m, tau_s: 100.0 },
+        Vertical::Free => VerticalChannel::Free,
+    };
+    let nav = StrapdownConfig { sample_interval_s: h, coning: coning_order(args.coning), vertical };
+    let start = match args.start {
+        StartMode::Align => Start::SelfAlign(AlignmentConfig { duration_s: args.align_s, ..AlignmentConfig::default() }),
+        StartMode::Truth => Start::Known(NavState::at_rest(0.0, ned_from_body_euler(&initial_attitude(&info)?), site)),
+    };
+    let config = ReplayConfig { nav, start, output_interval_s: 1.0 };
+    let mut replay = Replay::new(config, compensator, site, 0.0);
+    let pb = progress::bar(info.n_rows, "navigate", quiet);
+    while let Some(batch) = reader.next_batch()? {
+        replay.push_batch(&batch.samples, batch.segment_index.as_deref())?;
+        pb.inc(batch.samples.len() as u64);
+    }
+    pb.finish_and_clear();
+    let (points, summary) = replay.finish()?;
+    Ok((info, points, summary))
+}
+
+fn initial_attitude(info: &DatasetInfo) -> Result<Euler> {
+    let get = |k: &str| -> Result<f64> {
+        let v = info.meta.extra.get(k).with_context(|| {
+            format!("{}: --start truth needs metadata key sinsbench.{k} (simulated datasets carry it); use --start align", info.path.display())
+        })?;
+        v.parse::<f64>().with_context(|| format!("{}: metadata sinsbench.{k} = '{v}' is not a number", info.path.display()))
+    };
+    Ok(Euler::from_deg(get("initial_pitch_deg")?, get("initial_roll_deg")?, get("initial_yaw_deg")?))
+}
+
+fn label(info: &DatasetInfo, segment: u16) -> &str {
+    info.segment_labels.get(segment as usize).map_or("-", String::as_str)
+}
+
+/// Print the summary table of a replay.
+pub fn print_summary(info: &DatasetInfo, s: &ReplaySummary) {
+    println!("{}", info.path.display());
+    println!(
+        "  max horizontal error {:.4} nmi ({:.1} m) at t = {:.2} h in '{}'; RMS {:.1} m; final {:.1} m; navigated {:.2} h",
+        s.max_horizontal_nmi(),
+        s.max_horizontal_m,
+        s.t_max_s / 3600.0,
+        label(info, s.segment_at_max),
+        s.rms_horizontal_m,
+        s.final_horizontal_m,
+        s.navigated_s / 3600.0
+    );
+    for g in &s.segments {
+        println!(
+            "  segment {:<12} max {:>10.3} m ({:.5} nmi) at t = {:.2} h",
+            label(info, g.segment),
+            g.max_horizontal_m,
+            g.max_horizontal_m / NMI_M,
+            g.t_max_s / 3600.0
+        );
+    }
+}
+
+fn write_errors(path: &std::path::Path, info: &DatasetInfo, points: &[ErrorPoint]) -> Result<()> {
+    let col = |name: &str, f: &dyn Fn(&ErrorPoint) -> f64| Column::new(name.into(), points.iter().map(f).collect::<Vec<f64>>());
+    let mut df = DataFrame::new(points.len(), vec![
+        col("t_s", &|p| p.t_s),
+        col("north_m", &|p| p.north_m),
+        col("east_m", &|p| p.east_m),
+        col("horizontal_m", &|p| p.horizontal_m()),
+        col("vel_n_mps", &|p| p.vel_n_mps),
+        col("vel_e_mps", &|p| p.vel_e_mps),
+        Column::new("segment".into(), points.iter().map(|p| label(info, p.segment)).collect::<Vec<&str>>()),
+    ])?;
+    let kv = vec![("sinsbench.dataset".to_string(), info.path.display().to_string())];
+    sins_data::write_parquet_df_atomic(path, &mut df, &kv)?;
+    Ok(())
+}
