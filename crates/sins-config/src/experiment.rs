@@ -9,6 +9,7 @@ use crate::toml_util;
 use crate::units::{DEG_PER_SQRT_H, UG_PER_SQRT_HZ};
 use serde::Deserialize;
 use sins_nav::{ARCSEC, DEG_PER_H, Geodetic, UG};
+use sins_sim::noise::gauss_markov_sigma_from_allan;
 use sins_sim::scenario::{NoiseModel, Scenario};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -257,7 +258,7 @@ fn build_noise(ctx: &Ctx<'_>, n: &NoiseFile) -> Result<NoiseModel, ConfigError> 
         gyro_arw_rad_per_sqrt_s: ctx
             .non_negative(&k("gyro_arw_deg_per_sqrt_h"), n.gyro_arw_deg_per_sqrt_h)?
             * DEG_PER_SQRT_H,
-        gyro_bias_instability_radps: gyro_bi * DEG_PER_H,
+        gyro_bias_instability_radps: gauss_markov_sigma_from_allan(gyro_bi * DEG_PER_H),
         gyro_bias_correlation_s: correlation(
             "gyro_bias_correlation_s",
             n.gyro_bias_correlation_s,
@@ -268,7 +269,7 @@ fn build_noise(ctx: &Ctx<'_>, n: &NoiseFile) -> Result<NoiseModel, ConfigError> 
         accel_vrw_mps_per_sqrt_s: ctx
             .non_negative(&k("accel_vrw_ug_per_sqrt_hz"), n.accel_vrw_ug_per_sqrt_hz)?
             * UG_PER_SQRT_HZ,
-        accel_bias_instability_mps2: accel_bi * UG,
+        accel_bias_instability_mps2: gauss_markov_sigma_from_allan(accel_bi * UG),
         accel_bias_correlation_s: correlation(
             "accel_bias_correlation_s",
             n.accel_bias_correlation_s,

@@ -264,14 +264,14 @@ fn units_are_converted_on_loaded_values() {
     ));
     assert!(close(
         n.gyro_bias_instability_radps,
-        0.0005 * 4.848_136_81e-6,
+        0.0005 * 4.848_136_81e-6 / 0.617_364_283,
         1e-8
     ));
     assert!(close(n.gyro_quantum_rad, 4.848_136_8e-6, 1e-8));
     assert!(close(n.accel_vrw_mps_per_sqrt_s, 10.0 * 9.806_65e-6, 1e-15));
     assert!(close(
         n.accel_bias_instability_mps2,
-        5.0 * 9.806_65e-6,
+        5.0 * 9.806_65e-6 / 0.617_364_283,
         1e-15
     ));
     assert_eq!(n.gyro_bias_correlation_s, 3600.0);

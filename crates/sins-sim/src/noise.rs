@@ -28,6 +28,24 @@ pub mod stream {
     pub const THERMOMETER: u64 = 5;
 }
 
+/// Peak of the Allan deviation of a first-order Gauss-Markov process, as a fraction of its
+/// stationary standard deviation σ: `max_T σ_A(T)/σ = 0.6174` (reached at `T ≈ 1.89 τ`), from
+/// `σ_A²(T) = σ² (τ/T)² (2T/τ − 3 + 4e^{−T/τ} − e^{−2T/τ})`. A datasheet "bias instability" B read
+/// off an Allan plot therefore corresponds to a Gauss-Markov σ of `B / GM_ALLAN_PEAK_RATIO`.
+pub const GM_ALLAN_PEAK_RATIO: f64 = 0.617_364_283;
+
+/// Allan deviation (same unit as `sigma`) of a first-order Gauss-Markov process with stationary
+/// std `sigma` and correlation time `tau_s`, at averaging time `t_s`.
+pub fn gauss_markov_allan_deviation(sigma: f64, tau_s: f64, t_s: f64) -> f64 {
+    let x = t_s / tau_s;
+    sigma * ((2.0 * x - 3.0 + 4.0 * (-x).exp() - (-2.0 * x).exp()) / (x * x)).sqrt()
+}
+
+/// Gauss-Markov stationary σ whose Allan-deviation peak equals the bias-instability figure `b`.
+pub fn gauss_markov_sigma_from_allan(b: f64) -> f64 {
+    b / GM_ALLAN_PEAK_RATIO
+}
+
 /// First-order Gauss-Markov process sampled every `dt`, exactly discretised.
 #[derive(Clone, Debug)]
 pub struct GaussMarkov {
@@ -225,5 +243,27 @@ impl SensorNoise {
                 *c = q.apply(*c);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod allan_tests {
+    use super::*;
+
+    #[test]
+    fn allan_peak_of_gauss_markov_is_0_6174_sigma_at_1_89_tau() {
+        let (mut best, mut at) = (0.0, 0.0);
+        for i in 1..100_000 {
+            let t = i as f64 * 1e-4;
+            let a = gauss_markov_allan_deviation(1.0, 1.0, t);
+            if a > best {
+                (best, at) = (a, t);
+            }
+        }
+        assert!((best - GM_ALLAN_PEAK_RATIO).abs() < 1e-7, "peak {best}");
+        assert!((at - 1.89).abs() < 0.01, "at {at} tau");
+        let b = 0.005;
+        let sigma = gauss_markov_sigma_from_allan(b);
+        assert!((gauss_markov_allan_deviation(sigma, 3600.0, 1.8926 * 3600.0) - b).abs() < 1e-9);
     }
 }
