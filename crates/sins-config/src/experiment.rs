@@ -77,6 +77,8 @@ struct ImuFile {
     truth: String,
     #[serde(default)]
     noise: NoiseFile,
+    #[serde(default)]
+    effect: Vec<crate::effects::EffectFile>,
 }
 
 #[derive(Default, Deserialize)]
@@ -135,6 +137,7 @@ pub fn load_experiment(path: impl AsRef<Path>) -> Result<Experiment, ConfigError
     }
     let truth = load_truth(&ctx, &raw.imu.truth)?;
     let noise = build_noise(&ctx, &raw.imu.noise)?;
+    let effects = crate::effects::build_effects(&ctx, &raw.imu.effect)?;
     let motion = build_motion(&ctx, &raw.motion)?;
     let thermal = match &raw.thermal {
         Some(t) => Some(build_thermal(&ctx, "thermal", t)?),
@@ -177,6 +180,7 @@ pub fn load_experiment(path: impl AsRef<Path>) -> Result<Experiment, ConfigError
             thermal,
             noise,
             truth,
+            effects: effects.clone(),
             seed: run.seed,
             with_reference: s.with_reference,
         });

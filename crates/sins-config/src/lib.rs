@@ -19,6 +19,7 @@ mod bigint;
 mod coefficients;
 mod csv;
 mod ctx;
+mod effects;
 mod error;
 mod exact;
 mod experiment;

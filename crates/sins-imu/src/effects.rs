@@ -44,6 +44,53 @@ pub trait ExtraEffect: Send {
     fn apply(&mut self, ctx: &EffectContext, dtheta_rad: &mut Vec3, dv_mps: &mut Vec3);
 }
 
+/// A data description of one extra effect (what experiment files name), buildable into the
+/// [`ExtraEffect`] the forward model applies. Values in SI.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EffectSpec {
+    /// See [`AccelBiasQuadraticTemp`].
+    AccelBiasQuadraticTemp {
+        /// Coefficient per axis (m/s^2/degC^2).
+        coeff_mps2_per_degc2: Vec3,
+        /// Reference temperature (degC).
+        reference_degc: f64,
+    },
+    /// See [`GyroBiasTemp`].
+    GyroBiasTemp {
+        /// Coefficient per axis (rad/s/degC).
+        coeff_radps_per_degc: Vec3,
+        /// Reference temperature (degC).
+        reference_degc: f64,
+    },
+}
+
+impl EffectSpec {
+    /// The effect's stable name (as in files and reports).
+    pub fn name(&self) -> &'static str {
+        self.build().name()
+    }
+
+    /// The effect, ready for [`crate::ForwardModel::with_effect`].
+    pub fn build(&self) -> Box<dyn ExtraEffect> {
+        match *self {
+            EffectSpec::AccelBiasQuadraticTemp {
+                coeff_mps2_per_degc2,
+                reference_degc,
+            } => Box::new(AccelBiasQuadraticTemp {
+                coeff_mps2_per_degc2,
+                reference_degc,
+            }),
+            EffectSpec::GyroBiasTemp {
+                coeff_radps_per_degc,
+                reference_degc,
+            } => Box::new(GyroBiasTemp {
+                coeff_radps_per_degc,
+                reference_degc,
+            }),
+        }
+    }
+}
+
 /// Second-order temperature coefficient of the accelerometer bias: `K2_j (T_j - T_ref)^2`.
 #[derive(Clone, Copy, Debug)]
 pub struct AccelBiasQuadraticTemp {

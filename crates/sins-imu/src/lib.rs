@@ -9,7 +9,7 @@ pub mod model;
 pub mod params;
 pub mod sample;
 
-pub use effects::{EffectContext, ExtraEffect};
+pub use effects::{EffectContext, EffectSpec, ExtraEffect};
 pub use model::{Compensator, ForwardModel};
 pub use params::{AccelParams, GyroParams, ImuErrorParams, ParamModel, TemperatureCoeffs};
 pub use sample::ImuSample;

@@ -69,6 +69,7 @@ fn main() {
             accel_bias_correlation_s: 3600.0,
         },
         truth: ImuErrorParams::ideal(ParamModel::States42),
+        effects: Vec::new(),
         seed: 7,
         with_reference,
     };

@@ -143,9 +143,15 @@ impl Simulator {
         })
     }
 
-    /// Simulator applying the scenario's own truth coefficients (no extra effects).
+    /// Simulator applying the scenario's own truth coefficients and extra effects.
     pub fn from_scenario(scenario: &Scenario) -> Result<Self, SimError> {
-        Self::new(scenario, ForwardModel::new(scenario.truth))
+        let forward = scenario
+            .effects
+            .iter()
+            .fold(ForwardModel::new(scenario.truth), |f, e| {
+                f.with_effect(e.build())
+            });
+        Self::new(scenario, forward)
     }
 
     /// Number of samples: `round(total duration · rate_hz)`.

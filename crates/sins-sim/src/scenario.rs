@@ -2,7 +2,7 @@
 //! sensor noise and the truth IMU. Files (TOML in human units) are parsed into this by
 //! `sins-config`; this crate never reads files.
 
-use sins_imu::ImuErrorParams;
+use sins_imu::{EffectSpec, ImuErrorParams};
 use sins_nav::{Geodetic, Quat, Vec3};
 
 /// One segment of the turntable motion program. Attitude is continuous across segments: each
@@ -143,6 +143,8 @@ pub struct Scenario {
     pub noise: NoiseModel,
     /// Truth IMU error coefficients.
     pub truth: ImuErrorParams,
+    /// Effects outside the paper's model, applied after eqs (1)-(2) in this order.
+    pub effects: Vec<EffectSpec>,
     /// Random seed (noise, thermometers).
     pub seed: u64,
     /// Write reference (truth) attitude, velocity and position columns.

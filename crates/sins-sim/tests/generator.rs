@@ -384,3 +384,41 @@ fn validation_errors_name_the_segment_and_field() {
         assert!(text.contains(field), "{field}: {text}");
     }
 }
+
+/// An extra effect named in the scenario changes exactly the channel it acts on.
+#[test]
+fn scenario_effects_are_switchable_and_local() {
+    use sins_imu::EffectSpec;
+    let base = common::scenario(vec![sins_sim::MotionSegment::Dwell {
+        duration_s: 2.0,
+        label: "d".into(),
+    }]);
+    let mut with = base.clone();
+    with.thermal.chamber_start_degc = 30.0;
+    let mut without = with.clone();
+    without.effects.clear();
+    with.effects = vec![EffectSpec::AccelBiasQuadraticTemp {
+        coeff_mps2_per_degc2: sins_nav::Vec3::new(1e-5, 0.0, 0.0),
+        reference_degc: 20.0,
+    }];
+    let a = sins_sim::Simulator::from_scenario(&with).unwrap();
+    let b = sins_sim::Simulator::from_scenario(&without).unwrap();
+    let (mut a, mut b) = (a, b);
+    let mut sa = Vec::new();
+    let mut sb = Vec::new();
+    a.run(1000, |x| {
+        sa.extend_from_slice(&x.samples);
+        Ok::<(), ()>(())
+    })
+    .unwrap();
+    b.run(1000, |x| {
+        sb.extend_from_slice(&x.samples);
+        Ok::<(), ()>(())
+    })
+    .unwrap();
+    for (x, y) in sa.iter().zip(&sb) {
+        assert_eq!(x.dtheta_rad, y.dtheta_rad);
+        assert_eq!(x.dv_mps.y, y.dv_mps.y);
+        assert!(x.dv_mps.x > y.dv_mps.x, "the effect must add to x");
+    }
+}

@@ -69,6 +69,7 @@ pub fn scenario(segments: Vec<MotionSegment>) -> Scenario {
         thermal: quiet_thermal(),
         noise: NoiseModel::default(),
         truth: ImuErrorParams::ideal(ParamModel::States42),
+        effects: Vec::new(),
         seed: 1,
         with_reference: false,
     }
