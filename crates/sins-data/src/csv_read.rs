@@ -1,0 +1,388 @@
+//! Streaming CSV reader. Opening makes one validating pass over the whole file (row count,
+//! segment labels, every value and time step checked, with exact line numbers); batches are
+//! then parsed in a second pass.
+
+use std::borrow::Cow;
+use std::collections::HashMap;
+use std::fs::File;
+use std::io::{BufRead, BufReader, Seek, SeekFrom};
+use std::path::{Path, PathBuf};
+
+use sins_imu::ImuSample;
+use sins_nav::Vec3;
+
+use crate::error::{DataError, RowRef};
+use crate::layout::{Layout, resolve_layout};
+use crate::meta::{DatasetMeta, KEY_PREFIX};
+use crate::pq_batch::reuse;
+use crate::pq_read::MAX_BATCH_ROWS;
+use crate::schema::{DatasetFormat, DatasetInfo, MAX_SEGMENT_LABELS, ReferenceRow, SampleBatch};
+use crate::validate::{TimeCheck, non_finite};
+
+/// Line source with 1-based line numbers and UTF-8 checking.
+struct Lines {
+    path: PathBuf,
+    reader: BufReader<File>,
+    buf: String,
+    line_no: u64,
+}
+
+impl Lines {
+    fn new(path: &Path, f: File) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            reader: BufReader::with_capacity(1 << 20, f),
+            buf: String::new(),
+            line_no: 0,
+        }
+    }
+
+    /// Next line (1-based number, text without its terminator); `None` at end of file.
+    fn next_line(&mut self) -> Result<Option<(u64, &str)>, DataError> {
+        self.buf.clear();
+        self.line_no += 1;
+        match self.reader.read_line(&mut self.buf) {
+            Ok(0) => Ok(None),
+            Ok(_) => Ok(Some((
+                self.line_no,
+                self.buf.trim_end_matches(['\n', '\r']),
+            ))),
+            Err(e) if e.kind() == std::io::ErrorKind::InvalidData => Err(DataError::MalformedCsv {
+                file: self.path.clone(),
+                line: self.line_no,
+                reason: "not valid UTF-8 text".to_string(),
+            }),
+            Err(e) => Err(DataError::io(&self.path, "reading CSV", e)),
+        }
+    }
+}
+
+/// Split a CSV line into fields (RFC 4180 quoting, no embedded line breaks).
+fn split_fields<'a>(line: &'a str, out: &mut Vec<Cow<'a, str>>) -> Result<(), String> {
+    out.clear();
+    let mut rest = line;
+    loop {
+        if let Some(quoted) = rest.strip_prefix('"') {
+            let mut value = String::new();
+            let mut chars = quoted.char_indices();
+            let after = loop {
+                match chars.next() {
+                    Some((i, '"')) => {
+                        if quoted[i + 1..].starts_with('"') {
+                            value.push('"');
+                            chars.next();
+                        } else {
+                            break &quoted[i + 1..];
+                        }
+                    }
+                    Some((_, c)) => value.push(c),
+                    None => return Err("unterminated quoted field".to_string()),
+                }
+            };
+            out.push(Cow::Owned(value));
+            match after.strip_prefix(',') {
+                Some(r) => rest = r,
+                None if after.is_empty() => return Ok(()),
+                None => return Err("text after a closing quote".to_string()),
+            }
+        } else {
+            match rest.find(',') {
+                Some(i) => {
+                    out.push(Cow::Borrowed(&rest[..i]));
+                    rest = &rest[i + 1..];
+                }
+                None => {
+                    out.push(Cow::Borrowed(rest));
+                    return Ok(());
+                }
+            }
+        }
+    }
+}
+
+/// Parses and validates data rows.
+struct RowParser {
+    path: PathBuf,
+    layout: Layout,
+    float_names: Vec<&'static str>,
+    n_fields: usize,
+    time: TimeCheck,
+    values: Vec<f64>,
+}
+
+impl RowParser {
+    /// Parse one data line into `self.values`; returns the segment text when present.
+    fn parse<'a>(
+        &mut self,
+        line: &'a str,
+        at: RowRef,
+        fields: &mut Vec<Cow<'a, str>>,
+    ) -> Result<Option<Cow<'a, str>>, DataError> {
+        let line_no = at.line.unwrap_or(0);
+        split_fields(line, fields).map_err(|reason| DataError::MalformedCsv {
+            file: self.path.clone(),
+            line: line_no,
+            reason,
+        })?;
+        if fields.len() != self.n_fields {
+            return Err(DataError::MalformedCsv {
+                file: self.path.clone(),
+                line: line_no,
+                reason: format!(
+                    "expected {} fields (as in the header), found {}",
+                    self.n_fields,
+                    fields.len()
+                ),
+            });
+        }
+        self.values.clear();
+        for (k, &pos) in self.layout.float_pos.iter().enumerate() {
+            let text = fields[pos].trim();
+            let name = self.float_names[k];
+            let x: f64 = text.parse().map_err(|_| DataError::BadValue {
+                file: self.path.clone(),
+                at,
+                column: name.to_string(),
+                text: text.to_string(),
+                reason: if text.is_empty() {
+                    "empty cell"
+                } else {
+                    "not a number"
+                },
+            })?;
+            if !x.is_finite() {
+                return Err(non_finite(&self.path, at, name, x));
+            }
+            self.values.push(x);
+        }
+        self.time.check(&self.path, at, self.values[0])?;
+        Ok(self
+            .layout
+            .segment_pos
+            .map(|p| std::mem::replace(&mut fields[p], Cow::Borrowed(""))))
+    }
+}
+
+/// An open CSV dataset (second pass).
+pub(crate) struct CsvSource {
+    lines: Lines,
+    parser: RowParser,
+    lookup: HashMap<String, u16>,
+    row: u64,
+    done: bool,
+    spare: Option<SampleBatch>,
+}
+
+/// Open a CSV dataset: parse the metadata and header, then validate every row.
+pub(crate) fn open_csv(path: &Path, mut f: File) -> Result<(DatasetInfo, CsvSource), DataError> {
+    f.seek(SeekFrom::Start(0))
+        .map_err(|e| DataError::io(path, "rewinding", e))?;
+    let f2 = f
+        .try_clone()
+        .map_err(|e| DataError::io(path, "opening", e))?;
+    let mut lines = Lines::new(path, f);
+    let (meta, layout, header_lines) = read_preamble(path, &mut lines)?;
+    let new_parser = |layout: Layout| RowParser {
+        path: path.to_path_buf(),
+        float_names: layout.columns.float_columns(),
+        n_fields: layout.float_pos.len()
+            + usize::from(layout.segment_pos.is_some())
+            + layout.ignored.len(),
+        layout,
+        time: TimeCheck::new(meta.sample_rate_hz),
+        values: Vec::new(),
+    };
+    // Pass 1: count rows, collect labels in order of first appearance, validate everything.
+    let mut parser = new_parser(layout.clone());
+    let mut labels: Vec<String> = Vec::new();
+    let mut lookup: HashMap<String, u16> = HashMap::new();
+    let mut n_rows = 0u64;
+    while let Some((line_no, line)) = lines.next_line()? {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let mut fields = Vec::new();
+        let at = RowRef::csv(n_rows, line_no);
+        if let Some(seg) = parser.parse(line, at, &mut fields)? {
+            if !lookup.contains_key(seg.as_ref()) {
+                if labels.len() >= MAX_SEGMENT_LABELS {
+                    return Err(DataError::BadSegment {
+                        file: path.to_path_buf(),
+                        at,
+                        reason: format!("more than {MAX_SEGMENT_LABELS} distinct labels"),
+                    });
+                }
+                lookup.insert(seg.to_string(), labels.len() as u16);
+                labels.push(seg.into_owned());
+            }
+        }
+        n_rows += 1;
+    }
+    if n_rows == 0 {
+        return Err(DataError::Empty {
+            file: path.to_path_buf(),
+        });
+    }
+    // Pass 2 starts right after the header.
+    let mut f2 = f2;
+    f2.seek(SeekFrom::Start(0))
+        .map_err(|e| DataError::io(path, "rewinding", e))?;
+    let mut lines2 = Lines::new(path, f2);
+    for _ in 0..header_lines {
+        lines2.next_line()?;
+    }
+    let info = DatasetInfo {
+        path: path.to_path_buf(),
+        format: DatasetFormat::Csv,
+        meta: meta.clone(),
+        columns: layout.columns,
+        has_temperature: layout.columns.temperature,
+        n_rows,
+        segment_labels: labels,
+        ignored_columns: layout.ignored.clone(),
+    };
+    let source = CsvSource {
+        lines: lines2,
+        parser: new_parser(layout),
+        lookup,
+        row: 0,
+        done: false,
+        spare: None,
+    };
+    Ok((info, source))
+}
+
+/// Read the comment lines and the header; returns the metadata, the layout and the number of
+/// lines consumed.
+fn read_preamble(path: &Path, lines: &mut Lines) -> Result<(DatasetMeta, Layout, u64), DataError> {
+    let mut kv: Vec<(String, String)> = Vec::new();
+    let header = loop {
+        let Some((_, line)) = lines.next_line()? else {
+            return Err(not_csv(path, "no header row"));
+        };
+        if let Some(comment) = line.strip_prefix('#') {
+            if let Some((k, v)) = comment.split_once('=') {
+                let v = v.strip_prefix(' ').unwrap_or(v);
+                kv.push((k.trim().to_string(), unescape_meta_value(v)));
+            }
+            continue;
+        }
+        if line.trim().is_empty() {
+            continue;
+        }
+        break line.to_string();
+    };
+    let mut fields = Vec::new();
+    split_fields(&header, &mut fields).map_err(|reason| DataError::MalformedCsv {
+        file: path.to_path_buf(),
+        line: lines.line_no,
+        reason,
+    })?;
+    let names: Vec<String> = fields.iter().map(|f| f.trim().to_string()).collect();
+    if !names.iter().any(|n| n == "t_s") {
+        let reason = format!("line {} is not a header with a t_s column", lines.line_no);
+        if !kv.iter().any(|(k, _)| k.starts_with(KEY_PREFIX)) {
+            return Err(not_csv(path, &reason));
+        }
+    }
+    let meta =
+        DatasetMeta::from_key_values(path, kv.iter().map(|(k, v)| (k.as_str(), v.as_str())))?;
+    let layout = resolve_layout(path, &names)?;
+    Ok((meta, layout, lines.line_no))
+}
+
+fn not_csv(path: &Path, reason: &str) -> DataError {
+    DataError::NotADataset {
+        file: path.to_path_buf(),
+        reason: format!("not Parquet (no PAR1 magic) and not a sinsbench CSV ({reason})"),
+    }
+}
+
+fn unescape_meta_value(v: &str) -> String {
+    let mut out = String::with_capacity(v.len());
+    let mut chars = v.chars();
+    while let Some(c) = chars.next() {
+        if c != '\\' {
+            out.push(c);
+            continue;
+        }
+        match chars.next() {
+            Some('n') => out.push('\n'),
+            Some('r') => out.push('\r'),
+            Some(other) => out.push(other),
+            None => out.push('\\'),
+        }
+    }
+    out
+}
+
+impl CsvSource {
+    /// Keep a consumed batch's buffers for the next batch.
+    pub fn recycle(&mut self, batch: SampleBatch) {
+        self.spare = Some(batch);
+    }
+
+    /// The next batch of at most [`MAX_BATCH_ROWS`] rows, `None` at the end (and after an error).
+    pub fn next_batch(&mut self, info: &DatasetInfo) -> Result<Option<SampleBatch>, DataError> {
+        if self.done {
+            return Ok(None);
+        }
+        let r = self.fill(info);
+        if !matches!(r, Ok(Some(_))) {
+            self.done = true;
+        }
+        r
+    }
+
+    fn fill(&mut self, info: &DatasetInfo) -> Result<Option<SampleBatch>, DataError> {
+        let cols = info.columns;
+        let cap = MAX_BATCH_ROWS.min(usize::try_from(info.n_rows).unwrap_or(MAX_BATCH_ROWS));
+        let spare = self.spare.take().unwrap_or_default();
+        let mut batch = SampleBatch {
+            first_row: self.row,
+            samples: reuse(Some(spare.samples), cap),
+            segment_index: cols.segment.then(|| reuse(spare.segment_index, cap)),
+            reference: cols.reference.then(|| reuse(spare.reference, cap)),
+        };
+        while batch.samples.len() < MAX_BATCH_ROWS {
+            let Some((line_no, line)) = self.lines.next_line()? else {
+                break;
+            };
+            if line.trim().is_empty() {
+                continue;
+            }
+            let mut fields = Vec::new();
+            let at = RowRef::csv(self.row, line_no);
+            let seg = self.parser.parse(line, at, &mut fields)?;
+            if let (Some(seg), Some(out)) = (seg, batch.segment_index.as_mut()) {
+                let idx = *self
+                    .lookup
+                    .get(seg.as_ref())
+                    .ok_or_else(|| DataError::BadSegment {
+                        file: info.path.clone(),
+                        at,
+                        reason: format!("label {seg:?} was not seen when the file was opened"),
+                    })?;
+                out.push(idx);
+            }
+            let v = &self.parser.values;
+            let temp_degc = if cols.temperature {
+                [v[7], v[8], v[9]]
+            } else {
+                [f64::NAN; 3]
+            };
+            batch.samples.push(ImuSample {
+                t_s: v[0],
+                dtheta_rad: Vec3::new(v[1], v[2], v[3]),
+                dv_mps: Vec3::new(v[4], v[5], v[6]),
+                temp_degc,
+            });
+            if let Some(out) = batch.reference.as_mut() {
+                let k0 = if cols.temperature { 10 } else { 7 };
+                out.push(ReferenceRow::from_array(std::array::from_fn(|k| v[k0 + k])));
+            }
+            self.row += 1;
+        }
+        Ok((!batch.samples.is_empty()).then_some(batch))
+    }
+}
