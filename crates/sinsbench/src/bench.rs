@@ -28,12 +28,19 @@ struct Measured {
 
 fn child(args: &[&str]) -> Result<Measured> {
     let exe = std::env::current_exe().context("cannot find the sinsbench executable")?;
-    let out = Command::new(exe).args(args).args(["--quiet", "--stats"]).output()?;
+    let out = Command::new(exe)
+        .args(args)
+        .args(["--quiet", "--stats"])
+        .output()?;
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
     if !out.status.success() {
         bail!("sinsbench {} failed:\n{stderr}", args.join(" "));
     }
-    let line = stderr.lines().rev().find(|l| l.starts_with("stats:")).context("child printed no stats line")?;
+    let line = stderr
+        .lines()
+        .rev()
+        .find(|l| l.starts_with("stats:"))
+        .context("child printed no stats line")?;
     let field = |k: &str| -> f64 {
         line.split_whitespace()
             .find_map(|f| f.strip_prefix(k))
@@ -55,10 +62,20 @@ fn p(path: &Path) -> String {
 pub fn run(args: Args, _quiet: bool) -> Result<()> {
     let exp = defaults::experiments_dir();
     std::fs::create_dir_all(&args.dir)?;
-    println!("sinsbench bench ({} logical CPUs)", std::thread::available_parallelism().map_or(0, |n| n.get()));
+    println!(
+        "sinsbench bench ({} logical CPUs)",
+        std::thread::available_parallelism().map_or(0, |n| n.get())
+    );
 
     let nav_exp = exp.join("paper_navigation.toml");
-    let m = child(&["simulate", &p(&nav_exp), "--run", "nav1", "--out", &p(&args.dir)])?;
+    let m = child(&[
+        "simulate",
+        &p(&nav_exp),
+        "--run",
+        "nav1",
+        "--out",
+        &p(&args.dir),
+    ])?;
     let dataset = args.dir.join("nav1.parquet");
     let bytes = std::fs::metadata(&dataset).map(|m| m.len()).unwrap_or(0);
     println!(
@@ -69,7 +86,13 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
     );
 
     let truth = exp.join("imu/paper_truth.toml");
-    let m = child(&["navigate", "--dataset", &p(&dataset), "--params", &p(&truth)])?;
+    let m = child(&[
+        "navigate",
+        "--dataset",
+        &p(&dataset),
+        "--params",
+        &p(&truth),
+    ])?;
     println!(
         "replay 15 h / 200 Hz (Parquet decode + 42-state compensation + alignment + 2-sample mechanization): {:.2} s wall, peak RSS {:.0} MB",
         m.wall_s, m.peak_rss_mb
@@ -86,7 +109,15 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
             .find(|f| f.extension().is_some_and(|x| x == "parquet"))
             .context("the error-free experiment wrote no dataset")?;
         for coning in ["1", "2", "3", "4"] {
-            let m = child(&["navigate", "--dataset", &p(&file), "--start", "truth", "--coning", coning])?;
+            let m = child(&[
+                "navigate",
+                "--dataset",
+                &p(&file),
+                "--start",
+                "truth",
+                "--coning",
+                coning,
+            ])?;
             println!("error-free floor, coning {coning} ({:.2} s):", m.wall_s);
             print!("{}", indent(&m.stdout));
         }

@@ -6,7 +6,9 @@ use polars::prelude::{Column, DataFrame};
 use sins_data::{DatasetInfo, DatasetReader};
 use sins_imu::{Compensator, ImuErrorParams, ParamModel};
 use sins_nav::alignment::AlignmentConfig;
-use sins_nav::{ConingOrder, Euler, NMI_M, NavState, StrapdownConfig, VerticalChannel, ned_from_body_euler};
+use sins_nav::{
+    ConingOrder, Euler, NMI_M, NavState, StrapdownConfig, VerticalChannel, ned_from_body_euler,
+};
 use sins_replay::{ErrorPoint, Replay, ReplayConfig, ReplaySummary, Start};
 use std::path::PathBuf;
 
@@ -95,23 +97,46 @@ pub fn replay(args: &Args, quiet: bool) -> Result<(DatasetInfo, Vec<ErrorPoint>,
             "{}: the dataset has no accelerometer temperature columns (temp_ax_degc, temp_ay_degc, temp_az_degc), \
              but the parameter set {} is a 42-state set with temperature coefficients",
             info.path.display(),
-            args.params.as_ref().map_or(String::new(), |p| p.display().to_string())
+            args.params
+                .as_ref()
+                .map_or(String::new(), |p| p.display().to_string())
         );
     }
-    let compensator = Compensator::new(params).context("parameter set is singular (I + E not invertible)")?;
+    let compensator =
+        Compensator::new(params).context("parameter set is singular (I + E not invertible)")?;
     let h = info.meta.sample_interval_s();
     let site = info.meta.site;
     let vertical = match args.vertical {
-        Vertical::Hold => VerticalChannel::Hold { height_m: site.height_m },
-        Vertical::Damped => VerticalChannel::Damped { height_m: site.height_m, tau_s: 100.0 },
+        Vertical::Hold => VerticalChannel::Hold {
+            height_m: site.height_m,
+        },
+        Vertical::Damped => VerticalChannel::Damped {
+            height_m: site.height_m,
+            tau_s: 100.0,
+        },
         Vertical::Free => VerticalChannel::Free,
     };
-    let nav = StrapdownConfig { sample_interval_s: h, coning: coning_order(args.coning), vertical };
-    let start = match args.start {
-        StartMode::Align => Start::SelfAlign(AlignmentConfig { duration_s: args.align_s, ..AlignmentConfig::default() }),
-        StartMode::Truth => Start::Known(NavState::at_rest(0.0, ned_from_body_euler(&initial_attitude(&info)?), site)),
+    let nav = StrapdownConfig {
+        sample_interval_s: h,
+        coning: coning_order(args.coning),
+        vertical,
     };
-    let config = ReplayConfig { nav, start, output_interval_s: 1.0 };
+    let start = match args.start {
+        StartMode::Align => Start::SelfAlign(AlignmentConfig {
+            duration_s: args.align_s,
+            ..AlignmentConfig::default()
+        }),
+        StartMode::Truth => Start::Known(NavState::at_rest(
+            0.0,
+            ned_from_body_euler(&initial_attitude(&info)?),
+            site,
+        )),
+    };
+    let config = ReplayConfig {
+        nav,
+        start,
+        output_interval_s: 1.0,
+    };
     let mut replay = Replay::new(config, compensator, site, 0.0);
     let pb = progress::bar(info.n_rows, "navigate", quiet);
     while let Some(batch) = reader.next_batch()? {
@@ -128,13 +153,24 @@ fn initial_attitude(info: &DatasetInfo) -> Result<Euler> {
         let v = info.meta.extra.get(k).with_context(|| {
             format!("{}: --start truth needs metadata key sinsbench.{k} (simulated datasets carry it); use --start align", info.path.display())
         })?;
-        v.parse::<f64>().with_context(|| format!("{}: metadata sinsbench.{k} = '{v}' is not a number", info.path.display()))
+        v.parse::<f64>().with_context(|| {
+            format!(
+                "{}: metadata sinsbench.{k} = '{v}' is not a number",
+                info.path.display()
+            )
+        })
     };
-    Ok(Euler::from_deg(get("initial_pitch_deg")?, get("initial_roll_deg")?, get("initial_yaw_deg")?))
+    Ok(Euler::from_deg(
+        get("initial_pitch_deg")?,
+        get("initial_roll_deg")?,
+        get("initial_yaw_deg")?,
+    ))
 }
 
 fn label(info: &DatasetInfo, segment: u16) -> &str {
-    info.segment_labels.get(segment as usize).map_or("-", String::as_str)
+    info.segment_labels
+        .get(segment as usize)
+        .map_or("-", String::as_str)
 }
 
 /// Print the summary table of a replay.
@@ -162,17 +198,31 @@ pub fn print_summary(info: &DatasetInfo, s: &ReplaySummary) {
 }
 
 fn write_errors(path: &std::path::Path, info: &DatasetInfo, points: &[ErrorPoint]) -> Result<()> {
-    let col = |name: &str, f: &dyn Fn(&ErrorPoint) -> f64| Column::new(name.into(), points.iter().map(f).collect::<Vec<f64>>());
-    let mut df = DataFrame::new(points.len(), vec![
-        col("t_s", &|p| p.t_s),
-        col("north_m", &|p| p.north_m),
-        col("east_m", &|p| p.east_m),
-        col("horizontal_m", &|p| p.horizontal_m()),
-        col("vel_n_mps", &|p| p.vel_n_mps),
-        col("vel_e_mps", &|p| p.vel_e_mps),
-        Column::new("segment".into(), points.iter().map(|p| label(info, p.segment)).collect::<Vec<&str>>()),
-    ])?;
-    let kv = vec![("sinsbench.dataset".to_string(), info.path.display().to_string())];
+    let col = |name: &str, f: &dyn Fn(&ErrorPoint) -> f64| {
+        Column::new(name.into(), points.iter().map(f).collect::<Vec<f64>>())
+    };
+    let mut df = DataFrame::new(
+        points.len(),
+        vec![
+            col("t_s", &|p| p.t_s),
+            col("north_m", &|p| p.north_m),
+            col("east_m", &|p| p.east_m),
+            col("horizontal_m", &|p| p.horizontal_m()),
+            col("vel_n_mps", &|p| p.vel_n_mps),
+            col("vel_e_mps", &|p| p.vel_e_mps),
+            Column::new(
+                "segment".into(),
+                points
+                    .iter()
+                    .map(|p| label(info, p.segment))
+                    .collect::<Vec<&str>>(),
+            ),
+        ],
+    )?;
+    let kv = vec![(
+        "sinsbench.dataset".to_string(),
+        info.path.display().to_string(),
+    )];
     sins_data::write_parquet_df_atomic(path, &mut df, &kv)?;
     Ok(())
 }

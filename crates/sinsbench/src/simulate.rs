@@ -51,14 +51,29 @@ impl Format {
 
 /// Run `simulate`.
 pub fn run(args: Args, quiet: bool) -> Result<()> {
-    let path = args.experiment.clone().unwrap_or_else(defaults::navigation_experiment);
+    let path = args
+        .experiment
+        .clone()
+        .unwrap_or_else(defaults::navigation_experiment);
     let experiment = sins_config::load_experiment(&path)?;
-    let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out").join(&experiment.name));
-    std::fs::create_dir_all(&out).with_context(|| format!("cannot create output directory {}", out.display()))?;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(&experiment.name));
+    std::fs::create_dir_all(&out)
+        .with_context(|| format!("cannot create output directory {}", out.display()))?;
     for name in &args.runs {
         if !experiment.scenarios.iter().any(|s| &s.name == name) {
-            let known: Vec<_> = experiment.scenarios.iter().map(|s| s.name.as_str()).collect();
-            anyhow::bail!("{}: no run named '{name}' (runs: {})", path.display(), known.join(", "));
+            let known: Vec<_> = experiment
+                .scenarios
+                .iter()
+                .map(|s| s.name.as_str())
+                .collect();
+            anyhow::bail!(
+                "{}: no run named '{name}' (runs: {})",
+                path.display(),
+                known.join(", ")
+            );
         }
     }
     for scenario in &experiment.scenarios {
@@ -86,7 +101,11 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
 /// Dataset metadata for a simulated scenario: site, rate, description, and the experiment,
 /// run, seed and initial attitude as extra keys.
 pub fn dataset_meta(experiment: &str, scenario: &Scenario) -> DatasetMeta {
-    let mut meta = DatasetMeta::new(scenario.rate_hz, scenario.site, scenario.description.clone());
+    let mut meta = DatasetMeta::new(
+        scenario.rate_hz,
+        scenario.site,
+        scenario.description.clone(),
+    );
     let e = euler_from_ned_from_body(&scenario.motion.initial_ned_from_body);
     for (k, v) in [
         ("experiment", experiment.to_string()),
@@ -102,14 +121,30 @@ pub fn dataset_meta(experiment: &str, scenario: &Scenario) -> DatasetMeta {
 }
 
 /// Simulate one scenario into `file` (written aside and renamed when complete).
-pub fn simulate_one(experiment: &str, scenario: &Scenario, file: &Path, quiet: bool) -> Result<sins_data::WriteSummary> {
-    let mut sim = Simulator::from_scenario(scenario).with_context(|| format!("scenario '{}'", scenario.name))?;
+pub fn simulate_one(
+    experiment: &str,
+    scenario: &Scenario,
+    file: &Path,
+    quiet: bool,
+) -> Result<sins_data::WriteSummary> {
+    let mut sim = Simulator::from_scenario(scenario)
+        .with_context(|| format!("scenario '{}'", scenario.name))?;
     let labels = sim.segment_labels().to_vec();
     let label_of_segment = sim.segment_label_indices().to_vec();
-    let columns = ColumnSet { temperature: true, segment: true, reference: scenario.with_reference };
-    let mut writer = DatasetWriter::create(file, &dataset_meta(experiment, scenario), columns, &labels)?;
+    let columns = ColumnSet {
+        temperature: true,
+        segment: true,
+        reference: scenario.with_reference,
+    };
+    let mut writer =
+        DatasetWriter::create(file, &dataset_meta(experiment, scenario), columns, &labels)?;
     let pb = progress::bar(sim.n_samples() as u64, &scenario.name, quiet);
-    let mut batch = SampleBatch { first_row: 0, samples: Vec::new(), segment_index: Some(Vec::new()), reference: None };
+    let mut batch = SampleBatch {
+        first_row: 0,
+        samples: Vec::new(),
+        segment_index: Some(Vec::new()),
+        reference: None,
+    };
     sim.run(65_536, |b: &SimBatch| -> Result<()> {
         to_sample_batch(b, &label_of_segment, &mut batch);
         writer.write_batch(&batch)?;
@@ -125,7 +160,11 @@ fn to_sample_batch(b: &SimBatch, label_of_segment: &[u16], out: &mut SampleBatch
     out.samples.extend_from_slice(&b.samples);
     let seg = out.segment_index.get_or_insert_with(Vec::new);
     seg.clear();
-    seg.extend(b.segment_index.iter().map(|&s| label_of_segment.get(s as usize).copied().unwrap_or(0)));
+    seg.extend(
+        b.segment_index
+            .iter()
+            .map(|&s| label_of_segment.get(s as usize).copied().unwrap_or(0)),
+    );
     out.reference = b.reference.as_ref().map(|refs| {
         refs.iter()
             .map(|r| {

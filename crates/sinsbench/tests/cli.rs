@@ -8,7 +8,10 @@ fn exe() -> Command {
 }
 
 fn experiments() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../experiments").canonicalize().expect("experiments/")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../experiments")
+        .canonicalize()
+        .expect("experiments/")
 }
 
 /// A two-minute experiment with every ingredient: noise, quantization, thermal ramp, a
@@ -76,7 +79,13 @@ seed = 7
 
 fn simulate(exp: &Path, out: &Path, threads: &str, extra: &[&str]) -> Output {
     exe()
-        .args(["simulate", &exp.display().to_string(), "--out", &out.display().to_string(), "--quiet"])
+        .args([
+            "simulate",
+            &exp.display().to_string(),
+            "--out",
+            &out.display().to_string(),
+            "--quiet",
+        ])
         .args(extra)
         .env("POLARS_MAX_THREADS", threads)
         .output()
@@ -90,7 +99,11 @@ fn simulate_is_bit_identical_for_a_seed_whatever_the_thread_count() {
     let one = dir.path().join("one");
     let two = dir.path().join("two");
     let other = dir.path().join("other");
-    for (out, threads, extra) in [(&one, "1", &[][..]), (&two, "2", &[][..]), (&other, "2", &["--seed", "8"][..])] {
+    for (out, threads, extra) in [
+        (&one, "1", &[][..]),
+        (&two, "2", &[][..]),
+        (&other, "2", &["--seed", "8"][..]),
+    ] {
         let o = simulate(&exp, out, threads, extra);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     }
@@ -109,7 +122,11 @@ fn csv_and_parquet_carry_the_same_samples() {
     let pq = dir.path().join("pq");
     let csv = dir.path().join("csv");
     assert!(simulate(&exp, &pq, "2", &[]).status.success());
-    assert!(simulate(&exp, &csv, "2", &["--format", "csv"]).status.success());
+    assert!(
+        simulate(&exp, &csv, "2", &["--format", "csv"])
+            .status
+            .success()
+    );
     let (ia, a) = sins_data_read(&pq.join("a.parquet"));
     let (ib, b) = sins_data_read(&csv.join("a.csv"));
     assert_eq!(ia, ib);
@@ -119,7 +136,14 @@ fn csv_and_parquet_carry_the_same_samples() {
 /// Navigate both files and compare the printed summaries (the same numbers to the last digit).
 fn sins_data_read(path: &Path) -> (usize, String) {
     let o = exe()
-        .args(["navigate", "--dataset", &path.display().to_string(), "--start", "truth", "--quiet"])
+        .args([
+            "navigate",
+            "--dataset",
+            &path.display().to_string(),
+            "--start",
+            "truth",
+            "--quiet",
+        ])
         .output()
         .expect("run");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -135,8 +159,14 @@ fn unknown_experiment_key_names_the_key_and_the_file() {
     let o = simulate(&exp, &dir.path().join("x"), "2", &[]);
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("colour") && err.contains("short.toml"), "unclear error: {err}");
-    assert!(!dir.path().join("x/a.parquet").exists(), "no dataset may be written");
+    assert!(
+        err.contains("colour") && err.contains("short.toml"),
+        "unclear error: {err}"
+    );
+    assert!(
+        !dir.path().join("x/a.parquet").exists(),
+        "no dataset may be written"
+    );
 }
 
 #[test]
@@ -154,10 +184,20 @@ fn navigate_refuses_a_42_state_set_without_temperatures() {
     std::fs::write(&csv, text).expect("write csv");
     let params = experiments().join("imu/paper_truth.toml");
     let o = exe()
-        .args(["navigate", "--dataset", &csv.display().to_string(), "--params", &params.display().to_string(), "--quiet"])
+        .args([
+            "navigate",
+            "--dataset",
+            &csv.display().to_string(),
+            "--params",
+            &params.display().to_string(),
+            "--quiet",
+        ])
         .output()
         .expect("run");
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("temperature") && err.contains("nt.csv"), "unclear error: {err}");
+    assert!(
+        err.contains("temperature") && err.contains("nt.csv"),
+        "unclear error: {err}"
+    );
 }
