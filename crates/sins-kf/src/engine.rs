@@ -1,0 +1,297 @@
+//! The Kalman filter proper, once the alignment is done: free-inertial navigation on the
+//! compensated increments, per-sample transition sums, and once per update interval the
+//! covariance propagation, the measurement update and the closed-loop feedback.
+//!
+//! State vector: the 30/42 states of eq (8), then (if configured) three Gauss-Markov bias
+//! wander states per sensor triad, `[w_gx, w_gy, w_gz]` and/or `[w_ax, w_ay, w_az]`, which enter
+//! eq (6) exactly like B_g / B_a and decay with their correlation time.
+
+use crate::config::CalibrationConfig;
+use crate::covariance::{Covariance, N_MEAS};
+use crate::dynamics::{nav_error_matrix, nav_process_noise};
+use crate::increments::two_sample;
+use crate::moments::MomentSums;
+use crate::states::{NAV_STATES, POS, VEL, n_params};
+use faer::Mat;
+use sins_imu::ParamModel;
+use sins_nav::alignment::AlignmentResult;
+use sins_nav::attitude::skew;
+use sins_nav::earth::EarthAt;
+use sins_nav::{ConingOrder, Geodetic, Mat3, Strapdown, StrapdownConfig, Vec3, VerticalChannel};
+
+/// Gyro white noise always added to the filter's process noise (rad/sqrt(s)): 1e-5 deg/sqrt(h),
+/// 50 times below the paper's IMU. Without any process noise (noise-free data) the navigation
+/// block of the covariance becomes so certain that rounding drives it indefinite after a few
+/// hours; this floor keeps it regular and moves noise-free estimates by ~1e-6 of Table 1.
+pub const ARW_FLOOR_RAD_PER_SQRT_S: f64 = 1e-5 * sins_nav::DEG / 60.0;
+/// Accelerometer white noise always added (m/s/sqrt(s)): 0.1 ug/sqrt(Hz), 100 times below the
+/// paper's IMU; see [`ARW_FLOOR_RAD_PER_SQRT_S`].
+pub const VRW_FLOOR_MPS_PER_SQRT_S: f64 = 0.1 * sins_nav::UG;
+
+/// What one measurement update produced.
+pub(crate) struct UpdateOutcome {
+    /// Time of the update (s).
+    pub(crate) t_s: f64,
+    /// Horizontal velocity innovation (m/s).
+    pub(crate) horizontal_innovation_mps: f64,
+    /// Normalized horizontal velocity innovation `z_N²/S_NN + z_E²/S_EE` (χ² with 2 degrees of
+    /// freedom for a consistent filter).
+    pub(crate) horizontal_nis: f64,
+    /// Corrections of the coefficient estimates (state order); zeros when rejected.
+    pub(crate) dparams: Vec<f64>,
+    /// True when the innovation exceeded the gate and the measurement was not used.
+    pub(crate) rejected: bool,
+}
+
+/// One modelled bias-wander triad.
+struct Wander {
+    /// First coefficient index of the triad (0: B_g, 3: B_a).
+    first: usize,
+    /// `e^{−T/τ}` per update interval.
+    decay: f64,
+    /// Current estimate (SI), added to the constant bias in the compensation.
+    estimate: Vec3,
+}
+
+/// Filter state after the alignment.
+pub(crate) struct Engine {
+    pub(crate) alignment: AlignmentResult,
+    pub(crate) nav: Strapdown,
+    pub(crate) cov: Covariance,
+    sums: MomentSums,
+    c_start: Mat3,
+    pending: [(Vec3, Vec3, [f64; 3]); 2],
+    n_pending: usize,
+    h: f64,
+    samples_per_update: usize,
+    n_params: usize,
+    wander: Vec<Wander>,
+    decay: Vec<f64>,
+    q_params: Vec<f64>,
+    r: [f64; N_MEAS],
+    qg: f64,
+    qa: f64,
+    site: Geodetic,
+    pub(crate) updates: usize,
+}
+
+/// `exp([a×])` to second order (|a| ≤ a few mrad per sample).
+#[inline]
+fn small_rotation(a: &Vec3) -> Mat3 {
+    let k = skew(a);
+    Mat3::identity() + k + 0.5 * k * k
+}
+
+impl Engine {
+    /// Start after `alignment` with initial 1-sigmas `sigma` of the eq-(8) states.
+    pub(crate) fn new(cfg: &CalibrationConfig, alignment: AlignmentResult, sigma: &[f64]) -> Self {
+        let h = cfg.sample_interval_s;
+        let n = cfg.samples_per_update();
+        let t = n as f64 * h;
+        let np = n_params(cfg.model);
+        let triads = cfg.noise.wander_triads();
+        let mut sig = sigma.to_vec();
+        let mut decay = vec![1.0; np];
+        let mut q_params = vec![0.0; np];
+        let mut wander = Vec::new();
+        for &(first, s, tau) in &triads {
+            let d = (-t / tau).exp();
+            sig.extend([s; 3]);
+            decay.extend([d; 3]);
+            q_params.extend([s * s * (1.0 - d * d); 3]);
+            wander.push(Wander {
+                first,
+                decay: d,
+                estimate: Vec3::zeros(),
+            });
+        }
+        let e = EarthAt::new(cfg.site.lat_rad, cfg.site.height_m);
+        let sp = cfg.measurement.position_m;
+        let sv2 = cfg.measurement.velocity_mps.powi(2);
+        let r = [
+            sv2,
+            sv2,
+            sv2,
+            (sp / e.meridian_plus_h_m).powi(2),
+            (sp / (e.transverse_plus_h_m * e.cos_lat)).powi(2),
+            sp * sp,
+        ];
+        let nav_cfg = StrapdownConfig {
+            sample_interval_s: h,
+            coning: ConingOrder::TwoSample,
+            vertical: VerticalChannel::Free,
+        };
+        Self {
+            alignment,
+            nav: Strapdown::new(nav_cfg, alignment.state),
+            cov: Covariance::from_sigmas(&sig),
+            sums: MomentSums::new(t, h, cfg.model == ParamModel::States42),
+            c_start: alignment
+                .state
+                .ned_from_body
+                .to_rotation_matrix()
+                .into_inner(),
+            pending: [(Vec3::zeros(), Vec3::zeros(), [0.0; 3]); 2],
+            n_pending: 0,
+            h,
+            samples_per_update: n,
+            n_params: np,
+            wander,
+            decay,
+            q_params,
+            r,
+            qg: cfg.noise.gyro_arw_rad_per_sqrt_s.powi(2) + ARW_FLOOR_RAD_PER_SQRT_S.powi(2),
+            qa: cfg.noise.accel_vrw_mps_per_sqrt_s.powi(2) + VRW_FLOOR_MPS_PER_SQRT_S.powi(2),
+            site: cfg.site,
+            updates: 0,
+        }
+    }
+
+    /// Current bias-wander estimates to add to the constant gyro and accelerometer biases.
+    pub(crate) fn wander_bias(&self) -> (Vec3, Vec3) {
+        let (mut g, mut a) = (Vec3::zeros(), Vec3::zeros());
+        for w in &self.wander {
+            if w.first == 0 {
+                g = w.estimate
+            } else {
+                a = w.estimate
+            }
+        }
+        (g, a)
+    }
+
+    /// Add one compensated sample with its temperature offsets; returns true when an update
+    /// interval is complete (call [`Engine::update`] then).
+    #[inline]
+    pub(crate) fn push(&mut self, dtheta: Vec3, dv: Vec3, dtemp: [f64; 3]) -> bool {
+        self.pending[self.n_pending] = (dtheta, dv, dtemp);
+        self.n_pending += 1;
+        if self.n_pending < 2 {
+            return false;
+        }
+        self.n_pending = 0;
+        let [(th1, v1, t1), (th2, v2, t2)] = self.pending;
+        let (phi, dv_body) = two_sample(&th1, &v1, &th2, &v2);
+        self.nav.advance_interval(&phi, &dv_body, 2.0 * self.h);
+        let c1 = self.c_start * small_rotation(&(0.5 * th1));
+        let c2 = self.c_start * small_rotation(&(th1 + 0.5 * th2));
+        self.sums.add(&c1, &th1, &v1, &t1);
+        self.sums.add(&c2, &th2, &v2, &t2);
+        self.c_start = self
+            .nav
+            .state()
+            .ned_from_body
+            .to_rotation_matrix()
+            .into_inner();
+        self.sums.count() >= self.samples_per_update
+    }
+
+    /// `Φ_np` for all non-navigation states: the coefficient block, then the wander columns
+    /// (copies of the bias columns: the wander enters eq (6) like the bias).
+    fn phi_np(&self, f: &crate::dynamics::Mat9) -> Mat<f64> {
+        let base = self.sums.phi_np(f, self.n_params);
+        if self.wander.is_empty() {
+            return base;
+        }
+        let m = self.n_params + 3 * self.wander.len();
+        Mat::from_fn(NAV_STATES, m, |i, j| {
+            if j < self.n_params {
+                base[(i, j)]
+            } else {
+                let w = &self.wander[(j - self.n_params) / 3];
+                base[(i, w.first + (j - self.n_params) % 3)]
+            }
+        })
+    }
+
+    /// Propagate over the completed interval, update with velocity and position, feed the
+    /// navigation errors back into the strapdown solution and return the rest. A horizontal
+    /// velocity innovation above `gate_mps` is not used (innovation gating): motion of the IMU
+    /// must not be absorbed into attitude and coefficients.
+    pub(crate) fn update(&mut self, gate_mps: f64) -> Result<UpdateOutcome, &'static str> {
+        let t = self.samples_per_update as f64 * self.h;
+        let st = *self.nav.state();
+        let pos = st.position;
+        let f_ned = self.sums.mean_specific_force_ned();
+        let f = nav_error_matrix(pos.lat_rad, pos.height_m, &st.vel_ned_mps, &f_ned);
+        let phi_nn = (f * t).exp();
+        let phi_np = self.phi_np(&f);
+        let q_nn = nav_process_noise(&f, t, self.qg, self.qa);
+        self.cov
+            .propagate(&phi_nn, &phi_np, &q_nn, &self.decay, &self.q_params);
+        self.sums.clear();
+        for w in &mut self.wander {
+            w.estimate *= w.decay;
+        }
+        let v = st.vel_ned_mps;
+        let z = [
+            v.x,
+            v.y,
+            v.z,
+            pos.lat_rad - self.site.lat_rad,
+            pos.lon_rad - self.site.lon_rad,
+            pos.height_m - self.site.height_m,
+        ];
+        let s_h = [
+            self.cov.variance(VEL) + self.r[0],
+            self.cov.variance(VEL + 1) + self.r[1],
+        ];
+        let innovation = v.x.hypot(v.y);
+        let nis = v.x * v.x / s_h[0] + v.y * v.y / s_h[1];
+        if innovation > gate_mps {
+            return Ok(UpdateOutcome {
+                t_s: st.t_s,
+                horizontal_innovation_mps: innovation,
+                horizontal_nis: nis,
+                dparams: vec![0.0; self.n_params],
+                rejected: true,
+            });
+        }
+        let (x, _) = self
+            .cov
+            .update(&z, &self.r)
+            .ok_or("innovation covariance")?;
+        if !(x.iter().all(|v| v.is_finite()) && self.cov.is_healthy()) {
+            return Err("non-finite state or covariance");
+        }
+        let phi = Vec3::new(x[0], x[1], x[2]);
+        let dvel = Vec3::new(x[VEL], x[VEL + 1], x[VEL + 2]);
+        let dpos = Geodetic {
+            lat_rad: x[POS],
+            lon_rad: x[POS + 1],
+            height_m: x[POS + 2],
+        };
+        self.nav.correct(&phi, &dvel, Some(&dpos));
+        self.c_start = self
+            .nav
+            .state()
+            .ned_from_body
+            .to_rotation_matrix()
+            .into_inner();
+        let first_wander = NAV_STATES + self.n_params;
+        for (k, w) in self.wander.iter_mut().enumerate() {
+            let i = first_wander + 3 * k;
+            w.estimate += Vec3::new(x[i], x[i + 1], x[i + 2]);
+        }
+        self.updates += 1;
+        Ok(UpdateOutcome {
+            t_s: st.t_s,
+            horizontal_innovation_mps: innovation,
+            horizontal_nis: nis,
+            rejected: false,
+            dparams: x[NAV_STATES..first_wander].to_vec(),
+        })
+    }
+
+    /// Length of one update interval (s).
+    pub(crate) fn interval_s(&self) -> f64 {
+        self.samples_per_update as f64 * self.h
+    }
+
+    /// 1-sigma of the eq-(8) states (without the wander states).
+    pub(crate) fn sigmas(&self) -> Vec<f64> {
+        (0..NAV_STATES + self.n_params)
+            .map(|i| self.cov.sigma(i))
+            .collect()
+    }
+}

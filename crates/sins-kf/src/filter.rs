@@ -1,0 +1,282 @@
+//! The streaming calibration: compensation with the running estimate → 20 min stationary
+//! self-alignment → free-inertial navigation through the rotation scheme with the closed-loop
+//! Kalman filter of section 3.1.
+//!
+//! Closed loop everywhere: after each measurement update the navigation errors are corrected in
+//! the strapdown solution and the coefficient errors are added to the running estimate, which
+//! compensates the following raw samples (eqs 3-5, exactly inverted). The error states are thus
+//! zero before every propagation, the navigation errors never exceed one update interval's
+//! growth, and the coefficient residuals shrink as the filter converges — so the first-order
+//! model of eq (6) stays accurate although the initial errors are large and the table turns at
+//! 9 deg/s. The covariance is unaffected by the resets (the estimate moves, not the error).
+
+use crate::config::CalibrationConfig;
+use crate::engine::Engine;
+use crate::error::CalibrationError;
+use crate::report::{CalibrationResult, ObservabilityReport, Snapshot};
+use crate::states::{NAV_STATES, params_from_vec, params_to_vec};
+use sins_imu::{Compensator, ImuErrorParams, ImuSample, ParamModel};
+use sins_nav::alignment::SelfAlignment;
+use sins_nav::earth::EarthAt;
+use sins_nav::{ConingOrder, Increment, StrapdownConfig, Vec3, VerticalChannel};
+
+/// The calibration filter. Feed raw samples in time order with [`CalibrationFilter::push`],
+/// then call [`CalibrationFilter::finish`].
+pub struct CalibrationFilter {
+    config: CalibrationConfig,
+    h: f64,
+    initial_params: ImuErrorParams,
+    estimate: Vec<f64>,
+    compensator: Compensator,
+    initial_sigma: Vec<f64>,
+    phase: Phase,
+    last_t_s: Option<f64>,
+    first_t_s: f64,
+    history: Vec<Snapshot>,
+    updates_per_snapshot: usize,
+    exceeded_s: f64,
+    max_innovation_mps: f64,
+    max_nis: f64,
+}
+
+enum Phase {
+    Waiting,
+    Aligning(Box<SelfAlignment>),
+    Calibrating(Box<Engine>),
+}
+
+impl CalibrationFilter {
+    /// A filter with `config`, starting from the coefficient estimate `initial_params` (its
+    /// reference temperature is used for ΔT; coefficients outside `config.model` are ignored).
+    pub fn new(
+        config: CalibrationConfig,
+        initial_params: ImuErrorParams,
+    ) -> Result<Self, CalibrationError> {
+        config.validate()?;
+        let model = config.model;
+        if !initial_params.is_finite() {
+            return Err(CalibrationError::InitialParams(
+                "non-finite coefficient".into(),
+            ));
+        }
+        let estimate = params_to_vec(&initial_params, model);
+        let reference = initial_params.reference_temperature_degc;
+        let start = params_from_vec(&estimate, model, reference);
+        let compensator = Compensator::new(start)
+            .ok_or_else(|| CalibrationError::InitialParams("I + E is singular".into()))?;
+        let s = &config.initial_sigma;
+        let e = EarthAt::new(config.site.lat_rad, config.site.height_m);
+        let mut initial_sigma = vec![
+            s.level_rad,
+            s.level_rad,
+            s.heading_rad,
+            s.velocity_mps,
+            s.velocity_mps,
+            s.velocity_mps,
+            s.position_m / e.meridian_plus_h_m,
+            s.position_m / (e.transverse_plus_h_m * e.cos_lat),
+            s.position_m,
+        ];
+        initial_sigma.extend(params_to_vec(&s.params, model));
+        let t_update = config.samples_per_update() as f64 * config.sample_interval_s;
+        Ok(Self {
+            h: config.sample_interval_s,
+            updates_per_snapshot: ((config.snapshot_interval_s / t_update).round() as usize).max(1),
+            config,
+            initial_params: start,
+            estimate,
+            compensator,
+            initial_sigma,
+            phase: Phase::Waiting,
+            last_t_s: None,
+            first_t_s: 0.0,
+            history: Vec::new(),
+            exceeded_s: 0.0,
+            max_innovation_mps: 0.0,
+            max_nis: 0.0,
+        })
+    }
+
+    /// The current estimate of the constant coefficients.
+    pub fn estimate(&self) -> ImuErrorParams {
+        let r = self.initial_params.reference_temperature_degc;
+        params_from_vec(&self.estimate, self.config.model, r)
+    }
+
+    /// True once the alignment is complete and the Kalman filter runs.
+    pub fn is_calibrating(&self) -> bool {
+        matches!(self.phase, Phase::Calibrating(_))
+    }
+
+    /// The convergence history so far.
+    pub fn history(&self) -> &[Snapshot] {
+        &self.history
+    }
+
+    /// Add one raw sample (time order, evenly spaced at the configured interval).
+    pub fn push(&mut self, s: &ImuSample) -> Result<(), CalibrationError> {
+        self.check_sample(s)?;
+        let h = self.h;
+        let dtheta = self.compensator.dtheta_rad(&s.dtheta_rad, h);
+        let dv = self.compensator.dv_mps(&s.dv_mps, h, &s.temp_degc);
+        match &mut self.phase {
+            Phase::Waiting | Phase::Aligning(_) => self.align(s, dtheta, dv),
+            Phase::Calibrating(engine) => {
+                let dtemp = self
+                    .compensator
+                    .params()
+                    .temperature_offsets_degc(&s.temp_degc);
+                if engine.push(dtheta, dv, dtemp) {
+                    self.update()?;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    fn align(&mut self, s: &ImuSample, dtheta: Vec3, dv: Vec3) -> Result<(), CalibrationError> {
+        if let Phase::Waiting = self.phase {
+            self.first_t_s = s.t_s - self.h;
+            let nav = StrapdownConfig {
+                sample_interval_s: self.h,
+                coning: ConingOrder::TwoSample,
+                vertical: VerticalChannel::Hold {
+                    height_m: self.config.site.height_m,
+                },
+            };
+            let a =
+                SelfAlignment::new(self.config.alignment, nav, self.config.site, self.first_t_s);
+            self.phase = Phase::Aligning(Box::new(a));
+        }
+        if let Phase::Aligning(a) = &mut self.phase {
+            let inc = Increment {
+                dtheta_rad: dtheta,
+                dv_mps: dv,
+            };
+            if a.push(&inc)? {
+                let result = a.finish()?;
+                let engine = Engine::new(&self.config, result, &self.initial_sigma);
+                self.phase = Phase::Calibrating(Box::new(engine));
+            }
+        }
+        Ok(())
+    }
+
+    fn check_sample(&mut self, s: &ImuSample) -> Result<(), CalibrationError> {
+        let finite = |v: &Vec3| v.iter().all(|x| x.is_finite());
+        if !(s.t_s.is_finite() && finite(&s.dtheta_rad) && finite(&s.dv_mps)) {
+            return Err(CalibrationError::BadSample {
+                t_s: s.t_s,
+                reason: "non-finite time or increment",
+            });
+        }
+        if self.config.model == ParamModel::States42 && !s.temp_degc.iter().all(|t| t.is_finite()) {
+            return Err(CalibrationError::BadSample {
+                t_s: s.t_s,
+                reason: "the 42-state model needs all three accelerometer temperatures",
+            });
+        }
+        if let Some(last) = self.last_t_s {
+            let gap = s.t_s - last;
+            if (gap - self.h).abs() > 1e-3 * self.h {
+                return Err(CalibrationError::TimeGap {
+                    t_s: s.t_s,
+                    gap_s: gap,
+                    expected_s: self.h,
+                });
+            }
+        }
+        self.last_t_s = Some(s.t_s);
+        Ok(())
+    }
+
+    /// One measurement update of the engine, the motion check, the coefficient feedback into
+    /// the compensation and the history.
+    fn update(&mut self) -> Result<(), CalibrationError> {
+        let Phase::Calibrating(engine) = &mut self.phase else {
+            return Ok(());
+        };
+        let t_s = engine.nav.state().t_s;
+        let mc = self.config.motion_check;
+        let out = engine
+            .update(mc.max_horizontal_innovation_mps)
+            .map_err(|reason| CalibrationError::Diverged { t_s, reason })?;
+        self.max_innovation_mps = self.max_innovation_mps.max(out.horizontal_innovation_mps);
+        self.max_nis = self.max_nis.max(out.horizontal_nis);
+        if out.rejected {
+            self.exceeded_s += engine.interval_s();
+            if self.exceeded_s > mc.max_duration_s {
+                return Err(CalibrationError::NotStationary {
+                    t_s: out.t_s,
+                    innovation_mps: out.horizontal_innovation_mps,
+                    duration_s: self.exceeded_s,
+                    limit_mps: mc.max_horizontal_innovation_mps,
+                });
+            }
+            return Ok(());
+        }
+        self.exceeded_s = 0.0;
+        for (e, dx) in self.estimate.iter_mut().zip(&out.dparams) {
+            *e += dx;
+        }
+        let reference = self.initial_params.reference_temperature_degc;
+        let mut applied = params_from_vec(&self.estimate, self.config.model, reference);
+        let (wg, wa) = engine.wander_bias();
+        applied.gyro.bias_radps += wg;
+        applied.accel.bias_mps2 += wa;
+        self.compensator = Compensator::new(applied).ok_or(CalibrationError::Diverged {
+            t_s: out.t_s,
+            reason: "estimate not invertible",
+        })?;
+        if engine.updates % self.updates_per_snapshot == 0 {
+            self.history.push(Snapshot {
+                t_s: out.t_s,
+                estimate: self.estimate.clone(),
+                sigma: engine.sigmas(),
+            });
+        }
+        Ok(())
+    }
+
+    /// End the run: the estimate, its 1-sigma, the history and the observability report.
+    pub fn finish(mut self) -> Result<CalibrationResult, CalibrationError> {
+        let got_s = self.last_t_s.map_or(0.0, |t| t - self.first_t_s);
+        let needed_s = self.config.alignment.duration_s + self.config.update_interval_s;
+        let Phase::Calibrating(engine) = &self.phase else {
+            return Err(CalibrationError::TooShort { got_s, needed_s });
+        };
+        if engine.updates == 0 {
+            return Err(CalibrationError::TooShort { got_s, needed_s });
+        }
+        let sigma = engine.sigmas();
+        let t_end = engine.nav.state().t_s;
+        if self.history.last().is_none_or(|s| s.t_s < t_end) {
+            self.history.push(Snapshot {
+                t_s: t_end,
+                estimate: self.estimate.clone(),
+                sigma: sigma.clone(),
+            });
+        }
+        let model = self.config.model;
+        let reference = self.initial_params.reference_temperature_degc;
+        let alignment = engine.alignment;
+        Ok(CalibrationResult {
+            params: self.estimate(),
+            sigma: params_from_vec(&sigma[NAV_STATES..], model, reference),
+            initial_params: self.initial_params,
+            initial_sigma: params_from_vec(&self.initial_sigma[NAV_STATES..], model, reference),
+            observability: ObservabilityReport::new(
+                &self.initial_sigma,
+                &sigma,
+                self.config.weak_ratio,
+            ),
+            alignment,
+            filter_start_s: alignment.state.t_s,
+            filter_end_s: t_end,
+            updates: engine.updates,
+            max_innovation_mps: self.max_innovation_mps,
+            max_normalized_innovation: self.max_nis,
+            history: self.history,
+        })
+    }
+}
