@@ -10,6 +10,7 @@ pub mod attitude;
 pub mod earth;
 pub mod linear;
 pub mod mechanization;
+pub mod reconstruct;
 
 pub use alignment::{AlignmentConfig, AlignmentError, AlignmentResult, SelfAlignment};
 pub use attitude::{Euler, enu_from_body_euler, ned_from_body_euler};

@@ -33,13 +33,19 @@ pub enum ConingOrder {
     ThreeSample,
     /// Four-sample algorithm (Ignagni /945 coefficients): update every 4 samples.
     FourSample,
+    /// High-order look-ahead reconstruction of each sample interval ([`crate::reconstruct`]),
+    /// one update per sample; replays run it through
+    /// [`crate::reconstruct::IncrementReconstructor`] and [`Strapdown::advance_interval`]. Fed
+    /// sample by sample through [`Strapdown::push`] (e.g. during self-alignment) it is the
+    /// single-sample update `φ = Δθ`, `ΔV = Δv + ½ Δθ × Δv` without coning or sculling terms.
+    Reconstruct,
 }
 
 impl ConingOrder {
     /// Samples consumed per navigation update.
     pub fn samples_per_update(self) -> usize {
         match self {
-            ConingOrder::OnePlusPrevious => 1,
+            ConingOrder::OnePlusPrevious | ConingOrder::Reconstruct => 1,
             ConingOrder::TwoSample => 2,
             ConingOrder::ThreeSample => 3,
             ConingOrder::FourSample => 4,
@@ -63,7 +69,7 @@ impl ConingOrder {
             (1, 2, 654.0 / 945.0),
         ];
         match self {
-            ConingOrder::OnePlusPrevious => &[],
+            ConingOrder::OnePlusPrevious | ConingOrder::Reconstruct => &[],
             ConingOrder::TwoSample => &K2,
             ConingOrder::ThreeSample => &K3,
             ConingOrder::FourSample => &K4,

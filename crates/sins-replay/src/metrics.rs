@@ -83,7 +83,11 @@ impl ReplaySummary {
             match s.segments.iter_mut().find(|g| g.segment == p.segment) {
                 Some(g) if h > g.max_horizontal_m => (g.max_horizontal_m, g.t_max_s) = (h, p.t_s),
                 Some(_) => {}
-                None => s.segments.push(SegmentSummary { segment: p.segment, max_horizontal_m: h, t_max_s: p.t_s }),
+                None => s.segments.push(SegmentSummary {
+                    segment: p.segment,
+                    max_horizontal_m: h,
+                    t_max_s: p.t_s,
+                }),
             }
         }
         if !points.is_empty() {

@@ -1,9 +1,18 @@
 //! The replay state machine: compensation → (alignment) → navigation → 1 Hz error points.
+//!
+//! With `ConingOrder::Reconstruct` the navigation consumes the high-order look-ahead
+//! reconstruction of `sins_nav::reconstruct`: each interval is navigated once its stencil is
+//! complete, so the navigation state and the error points lag the pushed samples by the
+//! reconstruction's look-ahead and batch, and [`Replay::finish`] flushes the tail. A change of
+//! the segment index between consecutive samples starts a new smooth piece (the turntable's rate
+//! jumps at segment boundaries), so that no interpolation stencil straddles it.
 
 use crate::metrics::{ErrorPoint, ReplaySummary};
 use sins_imu::{Compensator, ImuSample};
 use sins_nav::alignment::{AlignmentConfig, AlignmentError, SelfAlignment};
-use sins_nav::{Geodetic, Increment, NavState, Strapdown, StrapdownConfig};
+use sins_nav::reconstruct::{IncrementReconstructor, ReconstructConfig};
+use sins_nav::{ConingOrder, Geodetic, Increment, NavState, Strapdown, StrapdownConfig};
+use std::collections::VecDeque;
 
 /// How navigation starts.
 #[derive(Clone, Copy, Debug)]
@@ -32,7 +41,9 @@ pub enum ReplayError {
     #[error(transparent)]
     Alignment(#[from] AlignmentError),
     /// The parameter set needs temperatures that the data lack.
-    #[error("sample at t = {t_s} s has no accelerometer temperatures, but the parameter set has temperature terms")]
+    #[error(
+        "sample at t = {t_s} s has no accelerometer temperatures, but the parameter set has temperature terms"
+    )]
     MissingTemperature {
         /// Time of the offending sample (s).
         t_s: f64,
@@ -45,6 +56,44 @@ pub enum ReplayError {
 enum Phase {
     Aligning(Box<SelfAlignment>),
     Navigating(Strapdown),
+    Reconstructing(Box<Reconstructing>),
+}
+
+/// Navigation on reconstructed increments: the segment index of every pushed sample whose
+/// interval has not been navigated yet.
+struct Reconstructing {
+    nav: Strapdown,
+    recon: IncrementReconstructor,
+    segments: VecDeque<u16>,
+}
+
+impl Phase {
+    /// The navigation phase that `config` selects, starting from `state`.
+    fn navigating(config: &ReplayConfig, recon: ReconstructConfig, state: NavState) -> Self {
+        let nav = Strapdown::new(config.nav, state);
+        match config.nav.coning {
+            ConingOrder::Reconstruct => Phase::Reconstructing(Box::new(Reconstructing {
+                nav,
+                recon: IncrementReconstructor::new(recon),
+                segments: VecDeque::new(),
+            })),
+            _ => Phase::Navigating(nav),
+        }
+    }
+}
+
+/// Append the error point of `nav`'s state, attributed to `segment`.
+fn record(points: &mut Vec<ErrorPoint>, nav: &Strapdown, site: &Geodetic, segment: u16) {
+    let st = nav.state();
+    let d = st.position.ned_offset_from_m(site);
+    points.push(ErrorPoint {
+        t_s: st.t_s,
+        north_m: d.x,
+        east_m: d.y,
+        vel_n_mps: st.vel_ned_mps.x,
+        vel_e_mps: st.vel_ned_mps.y,
+        segment,
+    });
 }
 
 /// Streaming replay: feed samples in time order with [`Replay::push`], then [`Replay::finish`].
@@ -57,6 +106,7 @@ pub struct Replay {
     samples_per_output: usize,
     nav_samples: usize,
     nav_start_s: f64,
+    recon: ReconstructConfig,
 }
 
 impl Replay {
@@ -64,8 +114,10 @@ impl Replay {
     /// sample interval).
     pub fn new(config: ReplayConfig, compensator: Compensator, site: Geodetic, t0_s: f64) -> Self {
         let phase = match config.start {
-            Start::SelfAlign(a) => Phase::Aligning(Box::new(SelfAlignment::new(a, config.nav, site, t0_s))),
-            Start::Known(state) => Phase::Navigating(Strapdown::new(config.nav, state)),
+            Start::SelfAlign(a) => {
+                Phase::Aligning(Box::new(SelfAlignment::new(a, config.nav, site, t0_s)))
+            }
+            Start::Known(state) => Phase::navigating(&config, ReconstructConfig::default(), state),
         };
         let h = config.nav.sample_interval_s;
         Self {
@@ -77,7 +129,18 @@ impl Replay {
             points: Vec::new(),
             nav_samples: 0,
             nav_start_s: t0_s,
+            recon: ReconstructConfig::default(),
         }
+    }
+
+    /// Settings of the reconstruction used with `ConingOrder::Reconstruct` (default
+    /// [`ReconstructConfig::default`]); call before the first [`Replay::push`].
+    pub fn with_reconstruction(mut self, recon: ReconstructConfig) -> Self {
+        self.recon = recon;
+        if let Phase::Reconstructing(r) = &mut self.phase {
+            r.recon = IncrementReconstructor::new(recon);
+        }
+        self
     }
 
     /// Feed one raw sample with its segment index.
@@ -85,7 +148,9 @@ impl Replay {
     pub fn push(&mut self, s: &ImuSample, segment: u16) -> Result<(), ReplayError> {
         let h = self.config.nav.sample_interval_s;
         let temp = &s.temp_degc;
-        if self.compensator.uses_temperature() && !(temp[0].is_finite() && temp[1].is_finite() && temp[2].is_finite()) {
+        if self.compensator.uses_temperature()
+            && !(temp[0].is_finite() && temp[1].is_finite() && temp[2].is_finite())
+        {
             return Err(ReplayError::MissingTemperature { t_s: s.t_s });
         }
         let inc = Increment {
@@ -97,34 +162,63 @@ impl Replay {
                 if a.push(&inc)? {
                     let result = a.finish()?;
                     self.nav_start_s = result.state.t_s;
-                    self.phase = Phase::Navigating(Strapdown::new(self.config.nav, result.state));
+                    self.phase = Phase::navigating(&self.config, self.recon, result.state);
                 }
             }
             Phase::Navigating(nav) => {
                 nav.push(&inc);
                 self.nav_samples += 1;
                 if self.nav_samples % self.samples_per_output == 0 && nav.pending_samples() == 0 {
-                    let st = nav.state();
-                    let d = st.position.ned_offset_from_m(&self.site);
-                    self.points.push(ErrorPoint {
-                        t_s: st.t_s,
-                        north_m: d.x,
-                        east_m: d.y,
-                        vel_n_mps: st.vel_ned_mps.x,
-                        vel_e_mps: st.vel_ned_mps.y,
-                        segment,
-                    });
+                    record(&mut self.points, nav, &self.site, segment);
                 }
+            }
+            Phase::Reconstructing(r) => {
+                if r.segments.back().is_some_and(|&g| g != segment) {
+                    r.recon.start_new_piece();
+                }
+                r.recon.push(&inc);
+                r.segments.push_back(segment);
+                self.navigate_reconstructed();
             }
         }
         Ok(())
     }
 
     /// Feed a batch of samples with per-sample segment indices (or all segment 0).
-    pub fn push_batch(&mut self, samples: &[ImuSample], segments: Option<&[u16]>) -> Result<(), ReplayError> {
+    pub fn push_batch(
+        &mut self,
+        samples: &[ImuSample],
+        segments: Option<&[u16]>,
+    ) -> Result<(), ReplayError> {
         match segments {
-            Some(seg) => samples.iter().zip(seg).try_for_each(|(s, &g)| self.push(s, g)),
+            Some(seg) => samples
+                .iter()
+                .zip(seg)
+                .try_for_each(|(s, &g)| self.push(s, g)),
             None => samples.iter().try_for_each(|s| self.push(s, 0)),
+        }
+    }
+
+    /// Navigate every interval the reconstructor has completed.
+    fn navigate_reconstructed(&mut self) {
+        let Phase::Reconstructing(r) = &mut self.phase else {
+            return;
+        };
+        let h = self.config.nav.sample_interval_s;
+        while let Some(x) = r.recon.pop() {
+            r.nav
+                .advance_interval(&x.phi_rad, &x.dv_body_mps, h * x.intervals as f64);
+            let segment = r
+                .segments
+                .drain(..x.intervals)
+                .next_back()
+                .expect("a segment per sample");
+            // An output point whenever the update reaches or crosses an output time.
+            let before = self.nav_samples / self.samples_per_output;
+            self.nav_samples += x.intervals;
+            if self.nav_samples / self.samples_per_output > before {
+                record(&mut self.points, &r.nav, &self.site, segment);
+            }
         }
     }
 
@@ -137,20 +231,25 @@ impl Replay {
     pub fn nav_state(&self) -> Option<&NavState> {
         match &self.phase {
             Phase::Navigating(n) => Some(n.state()),
+            Phase::Reconstructing(r) => Some(r.nav.state()),
             Phase::Aligning(_) => None,
         }
     }
 
     /// Finish: the error track and its summary.
-    pub fn finish(self) -> Result<(Vec<ErrorPoint>, ReplaySummary), ReplayError> {
+    pub fn finish(mut self) -> Result<(Vec<ErrorPoint>, ReplaySummary), ReplayError> {
+        if let Phase::Reconstructing(r) = &mut self.phase {
+            r.recon.finish();
+            self.navigate_reconstructed();
+        }
         match self.phase {
             Phase::Aligning(a) => {
                 a.finish()?;
                 Err(ReplayError::NoOutput("alignment incomplete".into()))
             }
-            Phase::Navigating(nav) => {
-                let navigated_s = nav.state().t_s - self.nav_start_s;
-                let summary = ReplaySummary::from_points(&self.points, navigated_s);
+            Phase::Navigating(_) | Phase::Reconstructing(_) => {
+                let end_s = self.nav_state().map_or(self.nav_start_s, |st| st.t_s);
+                let summary = ReplaySummary::from_points(&self.points, end_s - self.nav_start_s);
                 Ok((self.points, summary))
             }
         }
