@@ -94,7 +94,7 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
         &p(&truth),
     ])?;
     println!(
-        "replay 15 h / 200 Hz (Parquet decode + 42-state compensation + alignment + 2-sample mechanization): {:.2} s wall, peak RSS {:.0} MB",
+        "replay 15 h / 200 Hz (Parquet decode + 42-state compensation + alignment + reconstruction + mechanization): {:.2} s wall, peak RSS {:.0} MB",
         m.wall_s, m.peak_rss_mb
     );
     print!("{}", indent(&m.stdout));

@@ -4,6 +4,7 @@
 //! `sins-config` and `sins-data`.
 
 mod bench;
+mod calibrate;
 mod defaults;
 mod navigate;
 mod progress;
@@ -44,6 +45,9 @@ enum Command {
     /// Replay a dataset: self-alignment (20 min) or a known start, then pure inertial
     /// navigation with a parameter set applied; prints the horizontal error.
     Navigate(navigate::Args),
+    /// System-level calibration (the paper's 42- or 30-state Kalman filter) of a calibration
+    /// dataset; writes the parameter set with 1-sigma and the convergence history.
+    Calibrate(calibrate::Args),
     /// Measure simulation and replay speed, peak memory and the error-free navigation floor.
     Bench(bench::Args),
 }
@@ -54,6 +58,7 @@ fn main() -> std::process::ExitCode {
     let result = match cli.command {
         Command::Simulate(a) => simulate::run(a, cli.quiet),
         Command::Navigate(a) => navigate::run(a, cli.quiet),
+        Command::Calibrate(a) => calibrate::run(a, cli.quiet),
         Command::Bench(a) => bench::run(a, cli.quiet),
     };
     if cli.stats {
