@@ -108,17 +108,21 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
             .filter_map(|e| e.ok().map(|e| e.path()))
             .find(|f| f.extension().is_some_and(|x| x == "parquet"))
             .context("the error-free experiment wrote no dataset")?;
-        for coning in ["1", "2", "3", "4"] {
-            let m = child(&[
+        for algorithm in ["reconstruct", "two-sample", "one-plus-previous"] {
+            let args = [
                 "navigate",
                 "--dataset",
                 &p(&file),
                 "--start",
                 "truth",
-                "--coning",
-                coning,
-            ])?;
-            println!("error-free floor, coning {coning} ({:.2} s):", m.wall_s);
+                "--algorithm",
+                algorithm,
+            ];
+            let m = child(&args)?;
+            println!(
+                "error-free floor at 200 Hz, {algorithm} ({:.2} s replay):",
+                m.wall_s
+            );
             print!("{}", indent(&m.stdout));
         }
     }
