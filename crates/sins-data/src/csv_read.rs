@@ -203,18 +203,18 @@ pub(crate) fn open_csv(path: &Path, mut f: File) -> Result<(DatasetInfo, CsvSour
         }
         let mut fields = Vec::new();
         let at = RowRef::csv(n_rows, line_no);
-        if let Some(seg) = parser.parse(line, at, &mut fields)? {
-            if !lookup.contains_key(seg.as_ref()) {
-                if labels.len() >= MAX_SEGMENT_LABELS {
-                    return Err(DataError::BadSegment {
-                        file: path.to_path_buf(),
-                        at,
-                        reason: format!("more than {MAX_SEGMENT_LABELS} distinct labels"),
-                    });
-                }
-                lookup.insert(seg.to_string(), labels.len() as u16);
-                labels.push(seg.into_owned());
+        if let Some(seg) = parser.parse(line, at, &mut fields)?
+            && !lookup.contains_key(seg.as_ref())
+        {
+            if labels.len() >= MAX_SEGMENT_LABELS {
+                return Err(DataError::BadSegment {
+                    file: path.to_path_buf(),
+                    at,
+                    reason: format!("more than {MAX_SEGMENT_LABELS} distinct labels"),
+                });
             }
+            lookup.insert(seg.to_string(), labels.len() as u16);
+            labels.push(seg.into_owned());
         }
         n_rows += 1;
     }

@@ -95,22 +95,22 @@ impl CsvSink {
     pub fn push_row(&mut self, values: &[f64], segment: Option<u16>) -> Result<(), DataError> {
         self.line.clear();
         for (i, &v) in values.iter().enumerate() {
-            if i == self.n_before_segment {
-                if let Some(s) = segment {
-                    let label = self.labels.get(usize::from(s)).map_or("", String::as_str);
-                    self.line.push_str(label);
-                    self.line.push(',');
-                }
-            }
-            push_f64(&mut self.line, v);
-            self.line.push(',');
-        }
-        if values.len() == self.n_before_segment {
-            if let Some(s) = segment {
+            if i == self.n_before_segment
+                && let Some(s) = segment
+            {
                 let label = self.labels.get(usize::from(s)).map_or("", String::as_str);
                 self.line.push_str(label);
                 self.line.push(',');
             }
+            push_f64(&mut self.line, v);
+            self.line.push(',');
+        }
+        if values.len() == self.n_before_segment
+            && let Some(s) = segment
+        {
+            let label = self.labels.get(usize::from(s)).map_or("", String::as_str);
+            self.line.push_str(label);
+            self.line.push(',');
         }
         self.line.pop();
         self.line.push('\n');

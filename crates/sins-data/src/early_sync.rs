@@ -41,12 +41,12 @@ impl EarlySync {
     /// Note that about `bytes` more bytes were written; may request a sync (never blocks).
     pub fn wrote(&mut self, bytes: u64) {
         self.pending_bytes += bytes;
-        if self.pending_bytes >= SYNC_EVERY_BYTES {
-            if let Some(tx) = &self.tx {
-                match tx.try_send(()) {
-                    Ok(()) | Err(TrySendError::Full(())) => self.pending_bytes = 0,
-                    Err(TrySendError::Disconnected(())) => self.tx = None,
-                }
+        if self.pending_bytes >= SYNC_EVERY_BYTES
+            && let Some(tx) = &self.tx
+        {
+            match tx.try_send(()) {
+                Ok(()) | Err(TrySendError::Full(())) => self.pending_bytes = 0,
+                Err(TrySendError::Disconnected(())) => self.tx = None,
             }
         }
     }

@@ -283,11 +283,11 @@ pub(crate) fn decode_segment(
         let mut prev: Option<(u128, u16)> = None;
         for (i, view) in a.views().iter().enumerate() {
             let raw = view.as_u128();
-            if let Some((p, idx)) = prev {
-                if p == raw {
-                    out.push(idx);
-                    continue;
-                }
+            if let Some((p, idx)) = prev
+                && p == raw
+            {
+                out.push(idx);
+                continue;
             }
             let row = first_row + out.len() as u64;
             if a.validity().is_some_and(|v| !v.get_bit(i)) {

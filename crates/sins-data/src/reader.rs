@@ -9,6 +9,8 @@ use crate::error::DataError;
 use crate::pq_read::{ParquetSource, open_parquet};
 use crate::schema::{DatasetInfo, SampleBatch};
 
+// One reader per open file: the variant size difference costs nothing.
+#[allow(clippy::large_enum_variant)]
 enum Source {
     Parquet(ParquetSource),
     Csv(CsvSource),

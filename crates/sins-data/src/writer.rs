@@ -215,17 +215,17 @@ impl DatasetWriter {
         self.t_scratch.extend(batch.samples.iter().map(|s| s.t_s));
         self.time
             .check_slice(&self.path, self.n_rows, &self.t_scratch)?;
-        if let Some(seg) = &batch.segment_index {
-            if let Some(i) = seg.iter().position(|&s| usize::from(s) >= self.n_labels) {
-                return Err(DataError::BadSegment {
-                    file: self.path.clone(),
-                    at: RowRef::row(self.n_rows + i as u64),
-                    reason: format!(
-                        "segment index {} out of range ({} labels)",
-                        seg[i], self.n_labels
-                    ),
-                });
-            }
+        if let Some(seg) = &batch.segment_index
+            && let Some(i) = seg.iter().position(|&s| usize::from(s) >= self.n_labels)
+        {
+            return Err(DataError::BadSegment {
+                file: self.path.clone(),
+                at: RowRef::row(self.n_rows + i as u64),
+                reason: format!(
+                    "segment index {} out of range ({} labels)",
+                    seg[i], self.n_labels
+                ),
+            });
         }
         Ok(())
     }

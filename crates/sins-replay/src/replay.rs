@@ -53,6 +53,8 @@ pub enum ReplayError {
     NoOutput(String),
 }
 
+// One phase per replay, switched once: the variant size difference costs nothing.
+#[allow(clippy::large_enum_variant)]
 enum Phase {
     Aligning(Box<SelfAlignment>),
     Navigating(Strapdown),
@@ -168,7 +170,9 @@ impl Replay {
             Phase::Navigating(nav) => {
                 nav.push(&inc);
                 self.nav_samples += 1;
-                if self.nav_samples % self.samples_per_output == 0 && nav.pending_samples() == 0 {
+                if self.nav_samples.is_multiple_of(self.samples_per_output)
+                    && nav.pending_samples() == 0
+                {
                     record(&mut self.points, nav, &self.site, segment);
                 }
             }

@@ -171,6 +171,9 @@ fn print_result(r: &CalibrationResult) {
     }
 }
 
+/// One estimation curve for the Rerun log: entity path and `(t_s, value)` points.
+type Curve = (String, Vec<(f64, f64)>);
+
 /// Convergence history in the paper's units: `t_s`, then `<name>` and `<name>_sigma` per
 /// coefficient. Returns the curves as `(entity path, (t_s, value))` for the Rerun log.
 fn write_history(
@@ -178,7 +181,7 @@ fn write_history(
     r: &CalibrationResult,
     model: ParamModel,
     reference_degc: f64,
-) -> Result<Vec<(String, Vec<(f64, f64)>)>> {
+) -> Result<Vec<Curve>> {
     let n = r.history.len();
     let names: Vec<&str> = coefficient_table(&r.params)
         .iter()
