@@ -9,7 +9,6 @@
 use crate::config::CalibrationConfig;
 use crate::covariance::{Covariance, N_MEAS};
 use crate::dynamics::{nav_error_matrix, nav_process_noise};
-use crate::increments::two_sample;
 use crate::moments::MomentSums;
 use crate::states::{NAV_STATES, POS, VEL, n_params};
 use faer::Mat;
@@ -17,7 +16,10 @@ use sins_imu::ParamModel;
 use sins_nav::alignment::AlignmentResult;
 use sins_nav::attitude::skew;
 use sins_nav::earth::EarthAt;
-use sins_nav::{ConingOrder, Geodetic, Mat3, Strapdown, StrapdownConfig, Vec3, VerticalChannel};
+use sins_nav::{
+    ConingOrder, Geodetic, Increment, Mat3, Strapdown, StrapdownConfig, Vec3, VerticalChannel,
+    compensated_increments,
+};
 
 /// Gyro white noise always added to the filter's process noise (rad/sqrt(s)): 1e-5 deg/sqrt(h),
 /// 50 times below the paper's IMU. Without any process noise (noise-free data) the navigation
@@ -171,7 +173,17 @@ impl Engine {
         }
         self.n_pending = 0;
         let [(th1, v1, t1), (th2, v2, t2)] = self.pending;
-        let (phi, dv_body) = two_sample(&th1, &v1, &th2, &v2);
+        let pair = [
+            Increment {
+                dtheta_rad: th1,
+                dv_mps: v1,
+            },
+            Increment {
+                dtheta_rad: th2,
+                dv_mps: v2,
+            },
+        ];
+        let (phi, dv_body) = compensated_increments(ConingOrder::TwoSample, &pair, None);
         self.nav.advance_interval(&phi, &dv_body, 2.0 * self.h);
         let c1 = self.c_start * small_rotation(&(0.5 * th1));
         let c2 = self.c_start * small_rotation(&(th1 + 0.5 * th2));

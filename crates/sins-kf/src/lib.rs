@@ -37,7 +37,6 @@ mod dynamics;
 mod engine;
 pub mod error;
 pub mod filter;
-mod increments;
 mod moments;
 pub mod report;
 pub mod states;

@@ -17,6 +17,7 @@ pub use attitude::{Euler, enu_from_body_euler, ned_from_body_euler};
 pub use earth::{EarthAt, Geodetic, Wgs84};
 pub use mechanization::{
     ConingOrder, Increment, NavState, Strapdown, StrapdownConfig, VerticalChannel,
+    compensated_increments,
 };
 
 /// 3-vector of f64 (SI units, frame given by the variable name).
