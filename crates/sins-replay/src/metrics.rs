@@ -1,6 +1,6 @@
 //! Navigation error points and summaries (metres internally; nautical miles at the edges).
 
-use sins_nav::NMI_M;
+use sins_nav::{NMI_M, Quat};
 
 /// Navigation error at one output time, relative to the reference (the fixed site at rest).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -17,6 +17,9 @@ pub struct ErrorPoint {
     pub vel_e_mps: f64,
     /// Segment index of the sample at this time (into the caller's label list).
     pub segment: u16,
+    /// Estimated attitude `ned_from_body` at this time (the navigation solution's own; compare
+    /// it with a reference attitude when the data carry one).
+    pub ned_from_body: Quat,
 }
 
 impl ErrorPoint {

@@ -95,6 +95,7 @@ fn record(points: &mut Vec<ErrorPoint>, nav: &Strapdown, site: &Geodetic, segmen
         vel_n_mps: st.vel_ned_mps.x,
         vel_e_mps: st.vel_ned_mps.y,
         segment,
+        ned_from_body: st.ned_from_body,
     });
 }
 
