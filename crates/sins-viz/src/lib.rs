@@ -3,6 +3,9 @@
 
 use std::path::Path;
 
+mod nav;
+pub use nav::{Annotation, NavRecording, ScalarSeries, Strip2, TIMELINE, write_navigation};
+
 /// Errors while writing a Rerun recording.
 #[derive(Debug, thiserror::Error)]
 pub enum VizError {

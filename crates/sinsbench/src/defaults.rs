@@ -16,3 +16,8 @@ pub fn experiments_dir() -> PathBuf {
 pub fn navigation_experiment() -> PathBuf {
     experiments_dir().join("paper_navigation.toml")
 }
+
+/// The default configuration of `report`: the built-in replica of the paper's Table 5.
+pub fn report_config() -> PathBuf {
+    experiments_dir().join("report_paper.toml")
+}

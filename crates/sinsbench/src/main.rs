@@ -6,8 +6,10 @@
 mod bench;
 mod calibrate;
 mod defaults;
+mod gate;
 mod navigate;
 mod progress;
+mod report;
 mod simulate;
 mod stats;
 
@@ -48,6 +50,16 @@ enum Command {
     /// System-level calibration (the paper's 42- or 30-state Kalman filter) of a calibration
     /// dataset; writes the parameter set with 1-sigma and the convergence history.
     Calibrate(calibrate::Args),
+    /// The paper's Table 5, end to end: with no arguments, simulate the truth IMU's
+    /// calibration, calibrate it with the 30- and 42-state filters, simulate the three 15 h
+    /// navigation runs, replay each under both parameter sets and write reports/paper_replica/
+    /// (report.md, summary.json, PNG plots, one .rrd per run, error tracks). --config runs the
+    /// same on your own parameter files and datasets.
+    Report(report::Args),
+    /// Release gate: check a report's summary.json against thresholds (maximum horizontal
+    /// error per parameter set, minimum improvement). Exit code 0 = pass, 1 = a threshold is
+    /// exceeded (one line per failure), 2 = bad input.
+    Gate(gate::Args),
     /// Measure simulation and replay speed, peak memory and the error-free navigation floor.
     Bench(bench::Args),
 }
@@ -59,6 +71,8 @@ fn main() -> std::process::ExitCode {
         Command::Simulate(a) => simulate::run(a, cli.quiet),
         Command::Navigate(a) => navigate::run(a, cli.quiet),
         Command::Calibrate(a) => calibrate::run(a, cli.quiet),
+        Command::Report(a) => report::run(a, cli.quiet),
+        Command::Gate(a) => gate::run(a, cli.quiet),
         Command::Bench(a) => bench::run(a, cli.quiet),
     };
     if cli.stats {
@@ -66,9 +80,13 @@ fn main() -> std::process::ExitCode {
     }
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) if e.is::<gate::GateFailed>() => {
+            eprintln!("{e}");
+            std::process::ExitCode::from(1)
+        }
         Err(e) => {
             eprintln!("error: {}", error_chain(&e));
-            std::process::ExitCode::FAILURE
+            std::process::ExitCode::from(2)
         }
     }
 }

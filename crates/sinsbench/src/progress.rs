@@ -17,3 +17,38 @@ pub fn bar(len: u64, message: &str, quiet: bool) -> ProgressBar {
     pb.set_message(message.to_string());
     pb
 }
+
+/// Progress bars for the report's steps (one bar per step).
+pub struct Bars {
+    quiet: bool,
+    current: Option<ProgressBar>,
+}
+
+impl Bars {
+    /// Bars, hidden when `quiet`.
+    pub fn new(quiet: bool) -> Self {
+        Self {
+            quiet,
+            current: None,
+        }
+    }
+}
+
+impl sins_report::Progress for Bars {
+    fn begin(&mut self, label: &str, total: u64) {
+        if let Some(b) = self.current.take() {
+            b.finish_and_clear();
+        }
+        self.current = Some(bar(total, label, self.quiet));
+    }
+    fn advance(&mut self, n: u64) {
+        if let Some(b) = &self.current {
+            b.inc(n);
+        }
+    }
+    fn end(&mut self) {
+        if let Some(b) = self.current.take() {
+            b.finish_and_clear();
+        }
+    }
+}

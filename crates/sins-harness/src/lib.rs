@@ -1,0 +1,28 @@
+//! The navigation harness of sinsbench, free of file formats and viewers:
+//!
+//! - [`replay_setup`]: one place that turns a parameter set and replay options into a
+//!   [`sins_replay::Replay`] (the CLI's `navigate`, `report` and `diagnose` share it);
+//! - [`pipeline`]: simulate-and-calibrate and simulate-and-replay in memory, and
+//!   [`pipeline::MultiReplay`], which replays one stream of samples under several parameter sets
+//!   at once (datasets read elsewhere feed it the same way);
+//! - [`segments`]: per-segment maxima over contiguous stretches of a label;
+//! - [`summary`]: the machine-readable results (`summary.json`) in the layout of the paper's
+//!   Table 5;
+//! - [`config`]: the report configuration (TOML);
+//! - [`gate`]: thresholds, their evaluation and JUnit XML for CI systems.
+//!
+//! Units: SI inside (m, s, rad); nautical miles (1852 m) and hours only in summaries.
+
+#![warn(missing_docs)]
+
+pub mod config;
+mod error;
+pub mod gate;
+pub mod pipeline;
+pub mod reference;
+pub mod replay_setup;
+pub mod segments;
+pub mod summary;
+
+pub use error::HarnessError;
+pub use sins_replay::ErrorPoint;

@@ -1,0 +1,195 @@
+//! Machine-readable results of a report (`summary.json`): per experiment and parameter set the
+//! maximum horizontal error (when, in which segment), RMS and final error, per-segment maxima,
+//! and the improvement of the compensated set over the baseline, in the layout of the paper's
+//! Table 5.
+
+use crate::HarnessError;
+use crate::pipeline::{RunOutcome, Track};
+use crate::reference::PaperRow;
+use crate::segments::{SegmentStretch, label_of};
+use serde::{Deserialize, Serialize};
+use sins_nav::NMI_M;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// Version of the `summary.json` layout.
+pub const SUMMARY_SCHEMA: u32 = 1;
+
+/// A parameter set as the report describes it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ParamSetInfo {
+    /// Key (e.g. "42-state").
+    pub key: String,
+    /// Human label (e.g. "with temperature compensation").
+    pub label: String,
+    /// "30-state" or "42-state".
+    pub model: String,
+    /// Where it came from (a file, or the calibration that produced it).
+    pub source: String,
+}
+
+/// Which parameter sets the improvement compares.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Comparison {
+    /// Key of the set without temperature compensation.
+    pub baseline: String,
+    /// Key of the set with it.
+    pub compensated: String,
+}
+
+/// Results of one parameter set on one experiment.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SetResult {
+    /// Maximum horizontal error after alignment (nautical miles, 1852 m).
+    pub max_horizontal_nmi: f64,
+    /// The same in metres.
+    pub max_horizontal_m: f64,
+    /// Time of the maximum (s from the start of the data).
+    pub t_max_s: f64,
+    /// Segment (stretch) in which the maximum occurs.
+    pub segment_at_max: String,
+    /// RMS horizontal error over the navigation (m).
+    pub rms_horizontal_m: f64,
+    /// Horizontal error at the end (m).
+    pub final_horizontal_m: f64,
+    /// Navigated time after alignment (s).
+    pub navigated_s: f64,
+    /// Per-stretch maxima in time order.
+    pub segments: Vec<SegmentStretch>,
+}
+
+impl SetResult {
+    /// Summarise a track.
+    pub fn from_track(track: &Track, labels: &[String]) -> Self {
+        let s = &track.summary;
+        let at_max = track
+            .stretches
+            .iter()
+            .find(|g| g.start_s <= s.t_max_s && s.t_max_s <= g.end_s)
+            .map_or_else(|| label_of(labels, s.segment_at_max), |g| g.display_name());
+        Self {
+            max_horizontal_nmi: s.max_horizontal_m / NMI_M,
+            max_horizontal_m: s.max_horizontal_m,
+            t_max_s: s.t_max_s,
+            segment_at_max: at_max,
+            rms_horizontal_m: s.rms_horizontal_m,
+            final_horizontal_m: s.final_horizontal_m,
+            navigated_s: s.navigated_s,
+            segments: track.stretches.clone(),
+        }
+    }
+}
+
+/// One experiment (run or dataset) under every parameter set.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExperimentSummary {
+    /// Experiment name (e.g. "nav1").
+    pub name: String,
+    /// What was replayed (simulated run or dataset path).
+    pub source: String,
+    /// Length of the data (h).
+    pub duration_h: f64,
+    /// Results keyed by parameter set.
+    pub results: BTreeMap<String, SetResult>,
+    /// `100 (baseline - compensated) / baseline` of the maximum horizontal error (%), when the
+    /// report compares two sets.
+    pub improvement_percent: Option<f64>,
+    /// The paper's Table 5 row for the experiment in the same position, when given.
+    pub paper: Option<PaperRow>,
+}
+
+/// The whole `summary.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// Layout version ([`SUMMARY_SCHEMA`]).
+    pub schema: u32,
+    /// Report name.
+    pub name: String,
+    /// Report description.
+    pub description: String,
+    /// Program and version that wrote it.
+    pub generated_by: String,
+    /// The parameter sets replayed.
+    pub parameter_sets: Vec<ParamSetInfo>,
+    /// The compared pair, if any.
+    pub comparison: Option<Comparison>,
+    /// One entry per experiment, in order.
+    pub experiments: Vec<ExperimentSummary>,
+}
+
+/// `100 (baseline - compensated) / baseline` (%).
+pub fn improvement_percent(baseline_m: f64, compensated_m: f64) -> f64 {
+    100.0 * (baseline_m - compensated_m) / baseline_m
+}
+
+impl ExperimentSummary {
+    /// Summarise one run's outcome; `source` says what was replayed.
+    pub fn from_outcome(
+        outcome: &RunOutcome,
+        source: &str,
+        comparison: Option<&Comparison>,
+        paper: Option<PaperRow>,
+    ) -> Self {
+        let results: BTreeMap<String, SetResult> = outcome
+            .tracks
+            .iter()
+            .map(|t| (t.set.clone(), SetResult::from_track(t, &outcome.labels)))
+            .collect();
+        let improvement_percent = comparison.and_then(|c| {
+            let b = results.get(&c.baseline)?;
+            let k = results.get(&c.compensated)?;
+            Some(improvement_percent(b.max_horizontal_m, k.max_horizontal_m))
+        });
+        Self {
+            name: outcome.run.clone(),
+            source: source.to_string(),
+            duration_h: outcome.duration_s / 3600.0,
+            results,
+            improvement_percent,
+            paper,
+        }
+    }
+}
+
+impl Summary {
+    /// Serialise as pretty JSON.
+    pub fn to_json(&self) -> String {
+        // Serialising plain structs of numbers and strings cannot fail.
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// Read a `summary.json`; errors name the file, line and field.
+    pub fn from_json_file(path: &Path) -> Result<Self, HarnessError> {
+        let text = std::fs::read_to_string(path).map_err(|source| HarnessError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
+        let s: Summary = serde_json::from_str(&text).map_err(|e| HarnessError::Malformed {
+            path: path.to_owned(),
+            message: format!("not a sinsbench summary: {e}"),
+        })?;
+        if s.schema != SUMMARY_SCHEMA {
+            return Err(HarnessError::Malformed {
+                path: path.to_owned(),
+                message: format!(
+                    "key 'schema' is {}, this build reads {SUMMARY_SCHEMA}",
+                    s.schema
+                ),
+            });
+        }
+        for e in &s.experiments {
+            for (set, r) in &e.results {
+                if !r.max_horizontal_nmi.is_finite() || r.max_horizontal_nmi < 0.0 {
+                    return Err(HarnessError::Malformed {
+                        path: path.to_owned(),
+                        message: format!(
+                            "experiments['{}'].results['{set}'].max_horizontal_nmi is {} (must be a finite number >= 0)",
+                            e.name, r.max_horizontal_nmi
+                        ),
+                    });
+                }
+            }
+        }
+        Ok(s)
+    }
+}

@@ -1,0 +1,23 @@
+//! The navigation report of sinsbench (`sinsbench report`): run a report configuration
+//! ([`run_report`]: calibrate or load the parameter sets, simulate or read the navigation data,
+//! replay each experiment under every set) and write `reports/<name>/` atomically
+//! ([`write_report`]): `report.md` (the paper's Table 5 layout beside ours, per-segment maxima),
+//! `summary.json`, one Parquet error track, PNG plots and one Rerun `.rrd` per experiment, and
+//! the calibrated parameter sets.
+//!
+//! This crate and `sins-data` / `sins-viz` are the only ones here that link polars or rerun.
+
+#![warn(missing_docs)]
+
+mod error;
+mod markdown;
+mod output;
+mod plots;
+mod rrd;
+mod run;
+mod tracks;
+
+pub use error::ReportError;
+pub use markdown::render_markdown;
+pub use output::{ReportFiles, write_report};
+pub use run::{Progress, ReportRun, ResolvedSet, run_report};

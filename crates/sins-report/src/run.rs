@@ -1,0 +1,300 @@
+//! Running a report configuration: parameter sets (calibrated here or read from files), then
+//! every navigation experiment (simulated in memory, or read from datasets) replayed under every
+//! set in one pass over its samples.
+
+use crate::ReportError;
+use sins_config::{load_experiment, load_params, model_name};
+use sins_data::DatasetReader;
+use sins_harness::config::{NavigationSource, ParamOrigin, ReportConfig};
+use sins_harness::pipeline::{
+    MultiReplay, NamedParams, RunOutcome, scenario_samples, simulate_and_calibrate,
+    simulate_and_replay,
+};
+use sins_harness::reference::{PaperRow, load_table5};
+use sins_harness::summary::{ExperimentSummary, ParamSetInfo, SUMMARY_SCHEMA, Summary};
+use sins_imu::{ImuErrorParams, ParamModel};
+use sins_nav::attitude::ned_from_body_euler;
+use sins_nav::{Euler, Quat};
+use std::time::Instant;
+
+/// Progress of the long steps (the CLI draws bars; tests ignore it).
+pub trait Progress {
+    /// A step with `total` units of work starts.
+    fn begin(&mut self, label: &str, total: u64);
+    /// `n` more units are done.
+    fn advance(&mut self, n: u64);
+    /// The step ended.
+    fn end(&mut self);
+}
+
+/// A parameter set ready to replay with.
+#[derive(Clone, Debug)]
+pub struct ResolvedSet {
+    /// Key.
+    pub key: String,
+    /// Human label.
+    pub label: String,
+    /// Coefficients.
+    pub params: ImuErrorParams,
+    /// 1-sigma of each coefficient, when known.
+    pub sigma: Option<ImuErrorParams>,
+    /// Where it came from.
+    pub source: String,
+    /// True when this report calibrated it (it is then written beside the report).
+    pub calibrated: bool,
+}
+
+/// A report that ran: everything [`crate::write_report`] writes.
+#[derive(Clone, Debug)]
+pub struct ReportRun {
+    /// The configuration.
+    pub config: ReportConfig,
+    /// The parameter sets.
+    pub sets: Vec<ResolvedSet>,
+    /// One outcome per experiment.
+    pub outcomes: Vec<RunOutcome>,
+    /// The machine-readable results.
+    pub summary: Summary,
+    /// The paper's Table 5, when configured.
+    pub paper: Vec<PaperRow>,
+    /// Wall time of each step (name, seconds).
+    pub timings: Vec<(String, f64)>,
+}
+
+/// Run `config`.
+pub fn run_report(
+    config: &ReportConfig,
+    progress: &mut dyn Progress,
+) -> Result<ReportRun, ReportError> {
+    let mut timings = Vec::new();
+    let started = Instant::now();
+    let sets = resolve_sets(config, progress)?;
+    timings.push((
+        "parameter sets".to_string(),
+        started.elapsed().as_secs_f64(),
+    ));
+    let named: Vec<NamedParams> = sets
+        .iter()
+        .map(|s| NamedParams {
+            key: s.key.clone(),
+            params: s.params.clone(),
+        })
+        .collect();
+    let mut outcomes = Vec::new();
+    let mut sources = Vec::new();
+    match &config.navigation {
+        NavigationSource::Experiment(path) => {
+            let exp = load_experiment(path)?;
+            for sc in &exp.scenarios {
+                let t = Instant::now();
+                progress.begin(
+                    &format!("simulate + replay {}", sc.name),
+                    scenario_samples(sc)?,
+                );
+                let outcome =
+                    simulate_and_replay(sc, &named, &config.replay, &mut |n| progress.advance(n))?;
+                progress.end();
+                timings.push((
+                    format!("{} (simulate + replay)", sc.name),
+                    t.elapsed().as_secs_f64(),
+                ));
+                sources.push(format!(
+                    "simulated: {} run '{}' (seed {})",
+                    path.display(),
+                    sc.name,
+                    sc.seed
+                ));
+                outcomes.push(outcome);
+            }
+        }
+        NavigationSource::Datasets(list) => {
+            for (name, path) in list {
+                let t = Instant::now();
+                outcomes.push(replay_dataset(name, path, &sets, &named, config, progress)?);
+                timings.push((format!("{name} (replay)"), t.elapsed().as_secs_f64()));
+                sources.push(format!("dataset: {}", path.display()));
+            }
+        }
+    }
+    let paper = match &config.paper_table5 {
+        Some(p) => load_table5(p)?,
+        None => Vec::new(),
+    };
+    let experiments = outcomes
+        .iter()
+        .zip(&sources)
+        .enumerate()
+        .map(|(i, (o, src))| {
+            ExperimentSummary::from_outcome(
+                o,
+                src,
+                config.comparison.as_ref(),
+                paper.get(i).copied(),
+            )
+        })
+        .collect();
+    let summary = Summary {
+        schema: SUMMARY_SCHEMA,
+        name: config.name.clone(),
+        description: config.description.clone(),
+        generated_by: format!("sinsbench {}", env!("CARGO_PKG_VERSION")),
+        parameter_sets: sets
+            .iter()
+            .map(|s| ParamSetInfo {
+                key: s.key.clone(),
+                label: s.label.clone(),
+                model: model_name(s.params.model).to_string(),
+                source: s.source.clone(),
+            })
+            .collect(),
+        comparison: config.comparison.clone(),
+        experiments,
+    };
+    Ok(ReportRun {
+        config: config.clone(),
+        sets,
+        outcomes,
+        summary,
+        paper,
+        timings,
+    })
+}
+
+/// Load the file sets and calibrate the others (one simulation feeds every filter).
+fn resolve_sets(
+    config: &ReportConfig,
+    progress: &mut dyn Progress,
+) -> Result<Vec<ResolvedSet>, ReportError> {
+    let models: Vec<ParamModel> = config
+        .parameter_sets
+        .iter()
+        .filter_map(|s| match s.origin {
+            ParamOrigin::Calibrate(m) => Some(m),
+            ParamOrigin::File(_) => None,
+        })
+        .collect();
+    let mut calibrated = Vec::new();
+    let mut cal_source = String::new();
+    if let (false, Some(cal)) = (models.is_empty(), &config.calibration) {
+        let exp = load_experiment(&cal.experiment)?;
+        let scenario = match &cal.run {
+            Some(r) => exp.scenarios.iter().find(|s| &s.name == r).ok_or_else(|| {
+                ReportError::Mismatch(format!(
+                    "{}: calibration.run = '{r}' is not a run of {}",
+                    config.source_path.display(),
+                    cal.experiment.display()
+                ))
+            })?,
+            None => exp.scenarios.first().ok_or_else(|| {
+                ReportError::Mismatch(format!("{}: no [[run]]", cal.experiment.display()))
+            })?,
+        };
+        progress.begin(
+            &format!("calibrate {} ({} filters)", scenario.name, models.len()),
+            scenario_samples(scenario)?,
+        );
+        calibrated = simulate_and_calibrate(
+            scenario,
+            &models,
+            cal.reference_temperature_degc,
+            &mut |n| progress.advance(n),
+        )?;
+        progress.end();
+        cal_source = format!(
+            "calibrated by this report on the simulated run '{}' of {} ({:.1} h)",
+            scenario.name,
+            cal.experiment.display(),
+            sins_config::motion_duration_s(&scenario.motion) / 3600.0
+        );
+    }
+    let mut cal_iter = calibrated.into_iter();
+    let mut out = Vec::new();
+    for s in &config.parameter_sets {
+        let set = match &s.origin {
+            ParamOrigin::File(path) => {
+                let p = load_params(path)?;
+                ResolvedSet {
+                    key: s.key.clone(),
+                    label: s.label.clone(),
+                    params: p.params,
+                    sigma: p.sigma,
+                    source: path.display().to_string(),
+                    calibrated: false,
+                }
+            }
+            ParamOrigin::Calibrate(m) => {
+                let r = cal_iter.next().ok_or_else(|| {
+                    ReportError::Mismatch("internal: a calibration result is missing".into())
+                })?;
+                ResolvedSet {
+                    key: s.key.clone(),
+                    label: s.label.clone(),
+                    params: r.params,
+                    sigma: Some(r.sigma),
+                    source: format!("{}-state filter, {cal_source}", m.n_states()),
+                    calibrated: true,
+                }
+            }
+        };
+        out.push(set);
+    }
+    Ok(out)
+}
+
+/// Replay one dataset under every set.
+fn replay_dataset(
+    name: &str,
+    path: &std::path::Path,
+    sets: &[ResolvedSet],
+    named: &[NamedParams],
+    config: &ReportConfig,
+    progress: &mut dyn Progress,
+) -> Result<RunOutcome, ReportError> {
+    let mut reader = DatasetReader::open(path)?;
+    let info = reader.info().clone();
+    if !info.has_temperature
+        && let Some(s) = sets.iter().find(|s| s.params.model == ParamModel::States42)
+    {
+        return Err(ReportError::Mismatch(format!(
+            "{}: the dataset has no accelerometer temperature columns (temp_ax_degc, temp_ay_degc, temp_az_degc), \
+             but parameter set '{}' ({}) is a 42-state set with temperature coefficients",
+            path.display(),
+            s.key,
+            s.source
+        )));
+    }
+    let mut multi = MultiReplay::new(
+        name,
+        named,
+        info.meta.site,
+        info.meta.sample_interval_s(),
+        info.segment_labels.clone(),
+        &config.replay,
+    )?;
+    let mut truth: Option<Vec<(f64, Quat)>> = info.columns.reference.then(Vec::new);
+    let per_output =
+        ((config.replay.output_interval_s / info.meta.sample_interval_s()).round() as usize).max(1);
+    let mut row = 0usize;
+    progress.begin(&format!("replay {name}"), info.n_rows);
+    while let Some(batch) = reader.next_batch()? {
+        multi.push_batch(&batch.samples, batch.segment_index.as_deref())?;
+        if let (Some(t), Some(refs)) = (&mut truth, &batch.reference) {
+            for (s, r) in batch.samples.iter().zip(refs) {
+                row += 1;
+                if row.is_multiple_of(per_output) {
+                    let e = Euler {
+                        pitch_rad: r.pitch_rad,
+                        roll_rad: r.roll_rad,
+                        yaw_rad: r.yaw_rad,
+                    };
+                    t.push((s.t_s, ned_from_body_euler(&e)));
+                }
+            }
+        }
+        progress.advance(batch.samples.len() as u64);
+    }
+    progress.end();
+    let mut outcome = multi.finish()?;
+    outcome.truth_attitude = truth;
+    Ok(outcome)
+}

@@ -1,0 +1,63 @@
+//! `sinsbench report`: the paper's Table 5, replicated or on your own data.
+
+use crate::{defaults, progress};
+use anyhow::Result;
+use sins_harness::config::load_report_config;
+use std::path::PathBuf;
+
+/// Arguments of `report`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Report configuration (TOML; schema in experiments/README.md). Default: the built-in
+    /// replica of the paper, experiments/report_paper.toml: simulate the truth IMU's 4.2 h
+    /// calibration run, calibrate it with the 30- and 42-state filters, simulate the three 15 h
+    /// navigation runs and replay each under both parameter sets. Your own: list your parameter
+    /// files and datasets instead.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// Directory that receives <NAME>/ (report.md, summary.json, plots, .rrd, error tracks).
+    #[arg(long, default_value = "reports")]
+    pub reports_dir: PathBuf,
+}
+
+/// Run the configured report and write it; returns the summary path.
+pub fn produce(args: &Args, quiet: bool) -> Result<PathBuf> {
+    let path = args.config.clone().unwrap_or_else(defaults::report_config);
+    let config = load_report_config(&path)?;
+    let mut bars = progress::Bars::new(quiet);
+    let run = sins_report::run_report(&config, &mut bars)?;
+    let files = sins_report::write_report(&args.reports_dir, &run)?;
+    print_table(&run.summary);
+    println!(
+        "wrote {} ({} files: report.md, summary.json, plots, .rrd, error tracks)",
+        files.dir.display(),
+        files.files.len()
+    );
+    Ok(files.dir.join("summary.json"))
+}
+
+/// Run `report`.
+pub fn run(args: Args, quiet: bool) -> Result<()> {
+    produce(&args, quiet).map(|_| ())
+}
+
+fn print_table(s: &sins_harness::summary::Summary) {
+    for e in &s.experiments {
+        let cells: Vec<String> = e
+            .results
+            .iter()
+            .map(|(k, r)| {
+                format!(
+                    "{k} {:.3} nmi at {:.2} h ({})",
+                    r.max_horizontal_nmi,
+                    r.t_max_s / 3600.0,
+                    r.segment_at_max
+                )
+            })
+            .collect();
+        let imp = e
+            .improvement_percent
+            .map_or(String::new(), |v| format!("; improvement {v:.1} %"));
+        println!("{}: {}{imp}", e.name, cells.join(", "));
+    }
+}
