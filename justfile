@@ -5,13 +5,22 @@
 build:
     cargo build --release --workspace
 
-# Run the test suite (the same command as .ci/run and the README).
+# Run the test suite (the same command as .ci/run and the README; installs rerun-sdk for the
+# .rrd checks).
 test:
-    cargo test --release --workspace
+    scripts/test
 
-# Default main job: simulate the paper's 15 h navigation experiment (three runs).
+# Default main job: the paper's Table 5 replicated end to end into reports/paper_replica/.
 run:
-    cargo run --release -- simulate
+    cargo run --release -- report
+
+# Release gate on the replica's summary.
+gate:
+    cargo run --release -- gate --summary reports/paper_replica/summary.json --thresholds experiments/gate_paper.toml
+
+# A report on your own parameter sets and datasets.
+report CONFIG:
+    cargo run --release -- report --config {{CONFIG}}
 
 # Simulate any experiment definition into a directory.
 simulate EXPERIMENT OUT="out/datasets":

@@ -4,12 +4,12 @@ use crate::progress;
 use anyhow::{Context, Result, bail};
 use polars::prelude::{Column, DataFrame};
 use sins_data::{DatasetInfo, DatasetReader};
-use sins_imu::{Compensator, ImuErrorParams, ParamModel};
-use sins_nav::alignment::AlignmentConfig;
-use sins_nav::{
-    ConingOrder, Euler, NMI_M, NavState, StrapdownConfig, VerticalChannel, ned_from_body_euler,
+use sins_harness::replay_setup::{
+    ReplayOptions, StartMode as HarnessStart, VerticalMode, build_replay,
 };
-use sins_replay::{ErrorPoint, Replay, ReplayConfig, ReplaySummary, Start};
+use sins_imu::{ImuErrorParams, ParamModel};
+use sins_nav::{ConingOrder, Euler, NMI_M, NavState, ned_from_body_euler};
+use sins_replay::{ErrorPoint, ReplaySummary};
 use std::path::PathBuf;
 
 /// Arguments of `navigate`.
@@ -126,46 +126,37 @@ pub fn replay(args: &Args, quiet: bool) -> Result<(DatasetInfo, Vec<ErrorPoint>,
                 .map_or(String::new(), |p| p.display().to_string())
         );
     }
-    let compensator =
-        Compensator::new(params).context("parameter set is singular (I + E not invertible)")?;
-    let h = info.meta.sample_interval_s();
-    let site = info.meta.site;
-    let vertical = match args.vertical {
-        Vertical::Hold => VerticalChannel::Hold {
-            height_m: site.height_m,
-        },
-        Vertical::Damped => VerticalChannel::Damped {
-            height_m: site.height_m,
-            tau_s: 100.0,
-        },
-        Vertical::Free => VerticalChannel::Free,
-    };
-    let nav = StrapdownConfig {
-        sample_interval_s: h,
+    let options = ReplayOptions {
         coning: args.algorithm.coning_order(),
-        vertical,
-    };
-    let start = match args.start {
-        StartMode::Align => Start::SelfAlign(AlignmentConfig {
-            duration_s: args.align_s,
-            ..AlignmentConfig::default()
-        }),
-        StartMode::Truth => Start::Known(NavState::at_rest(
-            0.0,
-            ned_from_body_euler(&initial_attitude(&info)?),
-            site,
-        )),
-    };
-    let config = ReplayConfig {
-        nav,
-        start,
+        vertical: match args.vertical {
+            Vertical::Hold => VerticalMode::Hold,
+            Vertical::Damped => VerticalMode::Damped { tau_s: 100.0 },
+            Vertical::Free => VerticalMode::Free,
+        },
+        start: match args.start {
+            StartMode::Align => HarnessStart::Align {
+                duration_s: args.align_s,
+            },
+            StartMode::Truth => HarnessStart::Known(NavState::at_rest(
+                0.0,
+                ned_from_body_euler(&initial_attitude(&info)?),
+                info.meta.site,
+            )),
+        },
+        threads: args.threads as usize,
         output_interval_s: 1.0,
     };
-    let recon = sins_nav::reconstruct::ReconstructConfig {
-        threads: args.threads as usize,
-        ..Default::default()
-    };
-    let mut replay = Replay::new(config, compensator, site, 0.0).with_reconstruction(recon);
+    let set = args
+        .params
+        .as_ref()
+        .map_or("none".to_string(), |p| p.display().to_string());
+    let mut replay = build_replay(
+        &set,
+        &params,
+        info.meta.site,
+        info.meta.sample_interval_s(),
+        &options,
+    )?;
     let pb = progress::bar(info.n_rows, "navigate", quiet);
     while let Some(batch) = reader.next_batch()? {
         replay.push_batch(&batch.samples, batch.segment_index.as_deref())?;

@@ -3,16 +3,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn exe() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_sinsbench"))
-}
-
-fn experiments() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../experiments")
-        .canonicalize()
-        .expect("experiments/")
-}
+mod common;
+use common::{csv_without_temperatures, exe, experiments};
 
 /// A two-minute experiment with every ingredient: noise, quantization, thermal ramp, a
 /// rotation and pattern-3 vibration.
@@ -173,15 +165,7 @@ fn unknown_experiment_key_names_the_key_and_the_file() {
 fn navigate_refuses_a_42_state_set_without_temperatures() {
     let dir = tempfile::tempdir().expect("tempdir");
     let csv = dir.path().join("nt.csv");
-    let mut text = String::from(
-        "# sinsbench.schema_version = 1\n# sinsbench.sample_rate_hz = 200\n# sinsbench.site_latitude_deg = 28.22\n\
-         # sinsbench.site_longitude_deg = 112.99\n# sinsbench.site_height_m = 60\n# sinsbench.description = no temps\n\
-         t_s,dtheta_x_rad,dtheta_y_rad,dtheta_z_rad,dv_x_mps,dv_y_mps,dv_z_mps\n",
-    );
-    for k in 1..=400 {
-        text.push_str(&format!("{},0,3e-7,1.7e-7,0,0,0.049\n", k as f64 / 200.0));
-    }
-    std::fs::write(&csv, text).expect("write csv");
+    csv_without_temperatures(&csv, 400);
     let params = experiments().join("imu/paper_truth.toml");
     let o = exe()
         .args([

@@ -1,0 +1,53 @@
+//! Helpers shared by the CLI tests.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The sinsbench binary under test.
+pub fn exe() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_sinsbench"))
+}
+
+/// The repository's experiments/ folder.
+pub fn experiments() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../experiments")
+        .canonicalize()
+        .expect("experiments/")
+}
+
+/// Check an .rrd with Rerun's own reader (`rerun rrd verify`, PyPI rerun-sdk 0.36.3). With
+/// `SINSBENCH_RRD_VERIFY=required` (set by scripts/test, hence CI) a missing reader fails the
+/// test; otherwise the check is skipped with a note.
+pub fn verify_rrd(path: &Path) {
+    let required = std::env::var("SINSBENCH_RRD_VERIFY").is_ok_and(|v| v == "required");
+    match Command::new("rerun")
+        .args(["rrd", "verify"])
+        .arg(path)
+        .output()
+    {
+        Ok(o) => assert!(
+            o.status.success(),
+            "rerun rrd verify {} failed:\n{}{}",
+            path.display(),
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr)
+        ),
+        Err(e) if required => panic!("rerun (PyPI rerun-sdk 0.36.3) is required to verify .rrd files: {e}"),
+        Err(e) => eprintln!("note: not verifying {} with rerun ({e})", path.display()),
+    }
+}
+
+/// A CSV dataset of a level, stationary IMU without temperature columns (`n` samples, 200 Hz).
+pub fn csv_without_temperatures(path: &Path, n: usize) {
+    let mut text = String::from(
+        "# sinsbench.schema_version = 1\n# sinsbench.sample_rate_hz = 200\n# sinsbench.site_latitude_deg = 28.22\n\
+         # sinsbench.site_longitude_deg = 112.99\n# sinsbench.site_height_m = 60\n# sinsbench.description = no temps\n\
+         t_s,dtheta_x_rad,dtheta_y_rad,dtheta_z_rad,dv_x_mps,dv_y_mps,dv_z_mps\n",
+    );
+    for k in 1..=n {
+        text.push_str(&format!("{},0,3e-7,1.7e-7,0,0,0.049\n", k as f64 / 200.0));
+    }
+    std::fs::write(path, text).expect("write csv");
+}
