@@ -27,16 +27,23 @@ pub fn render_markdown(run: &ReportRun) -> String {
     where_and_when(&mut md, run);
     segments(&mut md, run);
     let _ = writeln!(md, "## Plots and recordings\n");
-    for e in &s.experiments {
+    for (e, o) in s.experiments.iter().zip(&run.outcomes) {
+        let temps = if crate::plots::has_temperatures(o) {
+            format!(
+                "![{} temperatures]({})\n\n",
+                e.name,
+                plot_file(&e.name, "temperature")
+            )
+        } else {
+            String::new()
+        };
         let _ = writeln!(
             md,
-            "### {}\n\n![{} horizontal error]({})\n\n![{} temperatures]({})\n\nError tracks (1 Hz, \
+            "### {}\n\n![{} horizontal error]({})\n\n{temps}Error tracks (1 Hz, \
              Parquet): [{}]({}). Rerun recording: [{}]({}) (open with `rerun {}`).\n",
             e.name,
             e.name,
             plot_file(&e.name, "errors"),
-            e.name,
-            plot_file(&e.name, "temperature"),
             track_file(&e.name),
             track_file(&e.name),
             rrd_file(&e.name),
@@ -244,6 +251,18 @@ fn differences(md: &mut String, run: &ReportRun) {
             p.improvement_percent
         );
     }
+    for e in &run.summary.experiments {
+        for k in [&c.baseline, &c.compensated] {
+            if let Some((name, rise)) = e.results.get(k).and_then(largest_rise) {
+                let _ = writeln!(
+                    md,
+                    "- {} with `{k}`: the error grows most during '{name}' (+{:.1} km over the previous segment's maximum).",
+                    e.name,
+                    rise / 1000.0
+                );
+            }
+        }
+    }
     let all_better = with_paper
         .iter()
         .all(|e| e.improvement_percent.is_some_and(|v| v > 0.0));
@@ -263,4 +282,18 @@ fn differences(md: &mut String, run: &ReportRun) {
             "Temperature compensation does NOT lower the maximum horizontal error in every experiment (see the table)."
         }
     );
+}
+
+/// The stretch whose maximum exceeds the previous stretch's maximum by the most (name, metres).
+fn largest_rise(r: &sins_harness::summary::SetResult) -> Option<(String, f64)> {
+    r.segments
+        .windows(2)
+        .map(|w| {
+            (
+                w[1].display_name(),
+                w[1].max_horizontal_m - w[0].max_horizontal_m,
+            )
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .filter(|(_, rise)| *rise > 0.0)
 }

@@ -6,7 +6,11 @@ use common::{csv_without_temperatures, exe, experiments, verify_rrd};
 use std::path::Path;
 
 fn run(args: &[&str]) -> std::process::Output {
-    exe().args(args).arg("--quiet").output().expect("run sinsbench")
+    exe()
+        .args(args)
+        .arg("--quiet")
+        .output()
+        .expect("run sinsbench")
 }
 
 fn s(p: &Path) -> String {
@@ -22,7 +26,12 @@ fn replica_report_then_gate() {
     let o = run(&["report", "--reports-dir", &s(dir.path())]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let out = dir.path().join("paper_replica");
-    for f in ["report.md", "summary.json", "params_30-state.toml", "params_42-state.toml"] {
+    for f in [
+        "report.md",
+        "summary.json",
+        "params_30-state.toml",
+        "params_42-state.toml",
+    ] {
         assert!(out.join(f).is_file(), "missing {f}");
     }
     let summary: serde_json::Value =
@@ -31,10 +40,17 @@ fn replica_report_then_gate() {
     assert_eq!(exps.len(), 3);
     for e in exps {
         let name = e["name"].as_str().unwrap();
-        let with = e["results"]["42-state"]["max_horizontal_nmi"].as_f64().unwrap();
-        let without = e["results"]["30-state"]["max_horizontal_nmi"].as_f64().unwrap();
+        let with = e["results"]["42-state"]["max_horizontal_nmi"]
+            .as_f64()
+            .unwrap();
+        let without = e["results"]["30-state"]["max_horizontal_nmi"]
+            .as_f64()
+            .unwrap();
         let imp = e["improvement_percent"].as_f64().unwrap();
-        assert!(with < without, "{name}: {with} nmi with vs {without} without");
+        assert!(
+            with < without,
+            "{name}: {with} nmi with vs {without} without"
+        );
         assert!((imp - 100.0 * (without - with) / without).abs() < 1e-9);
         assert!(e["paper"]["improvement_percent"].as_f64().is_some());
         // 15 h of data, navigated after the 20 min alignment
@@ -49,34 +65,67 @@ fn replica_report_then_gate() {
         verify_rrd(&out.join(format!("{name}.rrd")));
     }
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(md.contains("| nav1 |") && md.contains("37.6 %"), "Table 5 layout with the paper's column");
+    assert!(
+        md.contains("| nav1 |") && md.contains("37.6 %"),
+        "Table 5 layout with the paper's column"
+    );
 
     let summary_path = out.join("summary.json");
     let gate = experiments().join("gate_paper.toml");
-    let o = run(&["gate", "--summary", &s(&summary_path), "--thresholds", &s(&gate)]);
+    let o = run(&[
+        "gate",
+        "--summary",
+        &s(&summary_path),
+        "--thresholds",
+        &s(&gate),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stdout));
 
     let tight = dir.path().join("tight.toml");
-    std::fs::write(&tight, "schema = 1\n[default]\nmax_horizontal_nmi = { \"42-state\" = 0.01 }\n").unwrap();
+    std::fs::write(
+        &tight,
+        "schema = 1\n[default]\nmax_horizontal_nmi = { \"42-state\" = 0.01 }\n",
+    )
+    .unwrap();
     let junit = dir.path().join("gate.xml");
     let o = run(&[
-        "gate", "--summary", &s(&summary_path), "--thresholds", &s(&tight), "--junit", &s(&junit),
+        "gate",
+        "--summary",
+        &s(&summary_path),
+        "--thresholds",
+        &s(&tight),
+        "--junit",
+        &s(&junit),
     ]);
     assert_eq!(o.status.code(), Some(1));
     let text = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(text.lines().filter(|l| l.starts_with("FAIL")).count(), 3, "{text}");
-    assert!(text.contains("nav1: max horizontal error with '42-state' is"), "{text}");
+    assert_eq!(
+        text.lines().filter(|l| l.starts_with("FAIL")).count(),
+        3,
+        "{text}"
+    );
+    assert!(
+        text.contains("nav1: max horizontal error with '42-state' is"),
+        "{text}"
+    );
     assert!(text.contains("(limit 0.010 nmi)"), "{text}");
     let xml = std::fs::read_to_string(&junit).unwrap();
     assert_eq!(xml.matches("<failure").count(), 3);
 
     let broken = dir.path().join("broken.json");
     let json = std::fs::read_to_string(&summary_path).unwrap();
-    std::fs::write(&broken, json.replacen("\"max_horizontal_nmi\"", "\"max_horizontal\"", 1)).unwrap();
+    std::fs::write(
+        &broken,
+        json.replacen("\"max_horizontal_nmi\"", "\"max_horizontal\"", 1),
+    )
+    .unwrap();
     let o = run(&["gate", "--summary", &s(&broken), "--thresholds", &s(&gate)]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("broken.json") && err.contains("max_horizontal_nmi"), "{err}");
+    assert!(
+        err.contains("broken.json") && err.contains("max_horizontal_nmi"),
+        "{err}"
+    );
 }
 
 /// A report on datasets: a 42-state set with a dataset that has no temperatures is refused
@@ -100,15 +149,27 @@ fn bad_dataset_leaves_the_existing_report_untouched() {
     let reports = dir.path().join("reports");
     std::fs::create_dir_all(reports.join("mine")).unwrap();
     std::fs::write(reports.join("mine/report.md"), "the good old report\n").unwrap();
-    let o = run(&["report", "--config", &s(&config), "--reports-dir", &s(&reports)]);
+    let o = run(&[
+        "report",
+        "--config",
+        &s(&config),
+        "--reports-dir",
+        &s(&reports),
+    ]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("nt.csv") && err.contains("temperature") && err.contains("42-state"), "{err}");
+    assert!(
+        err.contains("nt.csv") && err.contains("temperature") && err.contains("42-state"),
+        "{err}"
+    );
     assert_eq!(
         std::fs::read_to_string(reports.join("mine/report.md")).unwrap(),
         "the good old report\n"
     );
-    let names: Vec<_> = std::fs::read_dir(&reports).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let names: Vec<_> = std::fs::read_dir(&reports)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert_eq!(names.len(), 1, "no partial report may remain: {names:?}");
 }
 
@@ -122,9 +183,18 @@ fn malformed_config_and_params_name_the_key() {
         "schema = 1\nname = \"x\"\n[[parameter_set]]\nkey = \"a\"\ncalibrate = 42\n[navigation]\nexperiment = \"n.toml\"\n",
     )
     .unwrap();
-    let o = run(&["report", "--config", &s(&config), "--reports-dir", &s(dir.path())]);
+    let o = run(&[
+        "report",
+        "--config",
+        &s(&config),
+        "--reports-dir",
+        &s(dir.path()),
+    ]);
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("c.toml") && err.contains("[calibration]"), "{err}");
+    assert!(
+        err.contains("c.toml") && err.contains("[calibration]"),
+        "{err}"
+    );
 
     let text = std::fs::read_to_string(experiments().join("imu/paper_truth.toml")).unwrap();
     let bad = dir.path().join("p.toml");
@@ -137,8 +207,17 @@ fn malformed_config_and_params_name_the_key() {
         ),
     )
     .unwrap();
-    let o = run(&["report", "--config", &s(&config), "--reports-dir", &s(dir.path())]);
+    let o = run(&[
+        "report",
+        "--config",
+        &s(&config),
+        "--reports-dir",
+        &s(dir.path()),
+    ]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("p.toml") && err.contains("TB_w_ug_per_degc"), "{err}");
+    assert!(
+        err.contains("p.toml") && err.contains("TB_w_ug_per_degc"),
+        "{err}"
+    );
 }

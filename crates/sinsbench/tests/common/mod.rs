@@ -34,7 +34,9 @@ pub fn verify_rrd(path: &Path) {
             String::from_utf8_lossy(&o.stdout),
             String::from_utf8_lossy(&o.stderr)
         ),
-        Err(e) if required => panic!("rerun (PyPI rerun-sdk 0.36.3) is required to verify .rrd files: {e}"),
+        Err(e) if required => {
+            panic!("rerun (PyPI rerun-sdk 0.36.3) is required to verify .rrd files: {e}")
+        }
         Err(e) => eprintln!("note: not verifying {} with rerun ({e})", path.display()),
     }
 }
