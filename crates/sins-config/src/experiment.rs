@@ -137,7 +137,7 @@ pub fn load_experiment(path: impl AsRef<Path>) -> Result<Experiment, ConfigError
     }
     let truth = load_truth(&ctx, &raw.imu.truth)?;
     let noise = build_noise(&ctx, &raw.imu.noise)?;
-    let effects = crate::effects::build_effects(&ctx, &raw.imu.effect)?;
+    let effects = crate::effects::build_effects(&ctx, &text, &raw.imu.effect)?;
     let motion = build_motion(&ctx, &raw.motion)?;
     let thermal = match &raw.thermal {
         Some(t) => Some(build_thermal(&ctx, "thermal", t)?),

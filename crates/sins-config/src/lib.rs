@@ -9,6 +9,9 @@
 //! - **Experiment files** (TOML): site, sampling, truth IMU and noise, thermal chamber, turntable
 //!   motion program and one or more runs; [`load_experiment`] turns each run into a
 //!   [`sins_sim::scenario::Scenario`].
+//! - **Extra effects** (`[[imu.effect]]` tables of an experiment, or a document of them alone): the
+//!   catalogue of `sins_imu::EffectKind`s in paper-style units; [`parse_effects_toml`] and
+//!   [`effects_to_toml`] (writing then reading is bit-exact in SI).
 //!
 //! Every error names the file, the key path (`motion.segment[3].duration_s`) and, for TOML, the
 //! line. The schema is documented in `experiments/README.md`.
@@ -31,6 +34,7 @@ mod toml_util;
 pub mod units;
 
 pub use coefficients::{Coefficient, coefficient_table};
+pub use effects::{effects_to_toml, parse_effects_toml};
 pub use error::ConfigError;
 pub use experiment::{EXPERIMENT_SCHEMA, Experiment, load_experiment};
 pub use motion::motion_duration_s;

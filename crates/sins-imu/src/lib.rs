@@ -9,7 +9,9 @@ pub mod model;
 pub mod params;
 pub mod sample;
 
-pub use effects::{EffectContext, EffectSpec, ExtraEffect};
+pub use effects::{
+    ContextTracker, EffectContext, EffectKind, EffectSpec, ExtraEffect, Linearity, MagnitudeUnit,
+};
 pub use model::{Compensator, ForwardModel};
 pub use params::{AccelParams, GyroParams, ImuErrorParams, ParamModel, TemperatureCoeffs};
 pub use sample::ImuSample;

@@ -38,6 +38,14 @@ impl ForwardModel {
         &self.params
     }
 
+    /// Return every extra effect to its state before the first sample (see
+    /// [`ExtraEffect::reset`]), so that a second pass over the same samples is identical.
+    pub fn reset_effects(&mut self) {
+        for e in &mut self.effects {
+            e.reset();
+        }
+    }
+
     /// Names of the enabled extra effects.
     pub fn effect_names(&self) -> Vec<&'static str> {
         self.effects.iter().map(|e| e.name()).collect()

@@ -11,7 +11,7 @@ use crate::motion::MotionTimeline;
 use crate::noise::{GaussianStream, SensorNoise, stream};
 use crate::scenario::Scenario;
 use crate::thermal::{AccelThermal, Thermometers};
-use sins_imu::{EffectContext, ForwardModel, ImuSample};
+use sins_imu::{ContextTracker, ForwardModel, ImuSample};
 use sins_nav::{Geodetic, Quat, Vec3};
 
 /// Truth state of the IMU at a sample time.
@@ -145,11 +145,15 @@ impl Simulator {
 
     /// Simulator applying the scenario's own truth coefficients and extra effects.
     pub fn from_scenario(scenario: &Scenario) -> Result<Self, SimError> {
+        for (i, e) in scenario.effects.iter().enumerate() {
+            let reason = format!("effect {i} ({}) has an invalid value: {e:?}", e.name());
+            field("effects", (!e.is_valid()).then_some(reason))?;
+        }
         let forward = scenario
             .effects
             .iter()
             .fold(ForwardModel::new(scenario.truth), |f, e| {
-                f.with_effect(e.build())
+                f.with_effect(e.build(&scenario.truth))
             });
         Self::new(scenario, forward)
     }
@@ -187,9 +191,9 @@ impl Simulator {
 
     /// Generate all samples from t = 0, handing them to `sink` in batches of `batch_len`
     /// (at least 1; the last batch may be shorter). Memory is bounded by `batch_len`. Each call
-    /// restarts the thermal state and the noise streams from the seed, so repeated runs are
-    /// identical unless an extra effect of the forward model keeps state of its own. Stops at the
-    /// first error of `sink` and returns it.
+    /// restarts the thermal state, the noise streams and the extra effects
+    /// ([`ForwardModel::reset_effects`]), so repeated runs are identical. Stops at the first error
+    /// of `sink` and returns it.
     pub fn run<E>(
         &mut self,
         batch_len: usize,
@@ -211,6 +215,8 @@ impl Simulator {
         let mut thermal = self.thermal0.clone();
         let mut thermometers = self.thermometers0.clone();
         let mut noise = self.noise0.clone();
+        let mut contexts = ContextTracker::new();
+        self.forward.reset_effects();
         let mut batch = SimBatch {
             samples: Vec::with_capacity(batch_len),
             segment_index: Vec::with_capacity(batch_len),
@@ -233,14 +239,7 @@ impl Simulator {
             let mid_degc = thermal.advance_to(tm_s);
             let mid_rate = thermal.rate_degc_per_s();
             let end_degc = thermal.advance_to(t1_s);
-            let ctx = EffectContext {
-                t_s: t1_s,
-                dt_s: h,
-                true_dtheta_rad: dtheta,
-                true_dv_mps: dv,
-                accel_temp_degc: mid_degc,
-                accel_temp_rate_degc_per_s: mid_rate,
-            };
+            let ctx = contexts.next(t1_s, h, dtheta, dv, mid_degc, mid_rate);
             let (mut raw_dtheta, mut raw_dv) = self.forward.apply(&dtheta, &dv, h, &mid_degc, &ctx);
             noise.apply(&mut raw_dtheta, &mut raw_dv);
             let temp_degc = thermometers.read(end_degc);
