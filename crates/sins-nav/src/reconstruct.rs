@@ -52,8 +52,9 @@ pub struct ReconstructConfig {
     /// Stencil half-width `L` (samples): the interpolant spans `2L + 1` samples and the output
     /// lags the input by `L` samples. `0` degenerates to the single-sample constant-rate update.
     pub half_width: usize,
-    /// Magnus steps per sample interval (clamped to 1..=4); the attitude error falls as
-    /// `substeps⁻⁶`.
+    /// Magnus steps per sample interval (clamped to 1..=4) on fast intervals (rotation per
+    /// sample above 0.01 rad); the attitude error falls as `substeps⁻⁶`. Slower intervals take
+    /// one step.
     pub substeps: usize,
     /// Sample intervals per output update (at least 1).
     pub intervals_per_update: usize,
