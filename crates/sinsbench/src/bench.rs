@@ -99,6 +99,32 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
     );
     print!("{}", indent(&m.stdout));
 
+    let cal_exp = exp.join("paper_calibration.toml");
+    let cal_dir = args.dir.join("calibration");
+    child(&["simulate", &p(&cal_exp), "--out", &p(&cal_dir)])?;
+    let cal = cal_dir.join("cal1.parquet");
+    let params_out = args.dir.join("cal1_42.toml");
+    let m = child(&[
+        "calibrate",
+        "--dataset",
+        &p(&cal),
+        "--states",
+        "42",
+        "--out",
+        &p(&params_out),
+    ])?;
+    println!(
+        "calibrate 4.2 h / 200 Hz with the 42-state filter (Parquet decode + alignment + filter, 1 s updates, history and .rrd): {:.2} s wall, peak RSS {:.0} MB",
+        m.wall_s, m.peak_rss_mb
+    );
+
+    let m = child(&["report", "--reports-dir", &p(&args.dir.join("reports"))])?;
+    println!(
+        "report (default replica: calibration simulated + 30- and 42-state filters, 3 x 15 h simulated + replayed twice, plots, .rrd): {:.1} s wall, peak RSS {:.0} MB",
+        m.wall_s, m.peak_rss_mb
+    );
+    print!("{}", indent(&m.stdout));
+
     if !args.no_floor {
         let floor_exp = exp.join("error_free_navigation.toml");
         let floor_dir = args.dir.join("floor");
