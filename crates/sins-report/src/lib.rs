@@ -9,6 +9,7 @@
 
 #![warn(missing_docs)]
 
+mod dataset;
 mod error;
 mod markdown;
 mod output;
@@ -17,6 +18,7 @@ mod rrd;
 mod run;
 mod tracks;
 
+pub use dataset::replay_dataset;
 pub use error::ReportError;
 pub use markdown::render_markdown;
 pub use output::{ReportFiles, write_report};

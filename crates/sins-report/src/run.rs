@@ -3,18 +3,15 @@
 //! set in one pass over its samples.
 
 use crate::ReportError;
+use crate::dataset::replay_dataset;
 use sins_config::{load_experiment, load_params, model_name};
-use sins_data::DatasetReader;
 use sins_harness::config::{NavigationSource, ParamOrigin, ReportConfig};
 use sins_harness::pipeline::{
-    MultiReplay, NamedParams, RunOutcome, scenario_samples, simulate_and_calibrate,
-    simulate_and_replay,
+    NamedParams, RunOutcome, scenario_samples, simulate_and_calibrate, simulate_and_replay,
 };
 use sins_harness::reference::{PaperRow, load_table5};
 use sins_harness::summary::{ExperimentSummary, ParamSetInfo, SUMMARY_SCHEMA, Summary};
 use sins_imu::{ImuErrorParams, ParamModel};
-use sins_nav::attitude::ned_from_body_euler;
-use sins_nav::{Euler, Quat};
 use std::time::Instant;
 
 /// Progress of the long steps (the CLI draws bars; tests ignore it).
@@ -110,7 +107,13 @@ pub fn run_report(
         NavigationSource::Datasets(list) => {
             for (name, path) in list {
                 let t = Instant::now();
-                outcomes.push(replay_dataset(name, path, &sets, &named, config, progress)?);
+                outcomes.push(replay_dataset(
+                    name,
+                    path,
+                    &named,
+                    &config.replay,
+                    progress,
+                )?);
                 timings.push((format!("{name} (replay)"), t.elapsed().as_secs_f64()));
                 sources.push(format!("dataset: {}", path.display()));
             }
@@ -239,62 +242,4 @@ fn resolve_sets(
         out.push(set);
     }
     Ok(out)
-}
-
-/// Replay one dataset under every set.
-fn replay_dataset(
-    name: &str,
-    path: &std::path::Path,
-    sets: &[ResolvedSet],
-    named: &[NamedParams],
-    config: &ReportConfig,
-    progress: &mut dyn Progress,
-) -> Result<RunOutcome, ReportError> {
-    let mut reader = DatasetReader::open(path)?;
-    let info = reader.info().clone();
-    if !info.has_temperature
-        && let Some(s) = sets.iter().find(|s| s.params.model == ParamModel::States42)
-    {
-        return Err(ReportError::Mismatch(format!(
-            "{}: the dataset has no accelerometer temperature columns (temp_ax_degc, temp_ay_degc, temp_az_degc), \
-             but parameter set '{}' ({}) is a 42-state set with temperature coefficients",
-            path.display(),
-            s.key,
-            s.source
-        )));
-    }
-    let mut multi = MultiReplay::new(
-        name,
-        named,
-        info.meta.site,
-        info.meta.sample_interval_s(),
-        info.segment_labels.clone(),
-        &config.replay,
-    )?;
-    let mut truth: Option<Vec<(f64, Quat)>> = info.columns.reference.then(Vec::new);
-    let per_output =
-        ((config.replay.output_interval_s / info.meta.sample_interval_s()).round() as usize).max(1);
-    let mut row = 0usize;
-    progress.begin(&format!("replay {name}"), info.n_rows);
-    while let Some(batch) = reader.next_batch()? {
-        multi.push_batch(&batch.samples, batch.segment_index.as_deref())?;
-        if let (Some(t), Some(refs)) = (&mut truth, &batch.reference) {
-            for (s, r) in batch.samples.iter().zip(refs) {
-                row += 1;
-                if row.is_multiple_of(per_output) {
-                    let e = Euler {
-                        pitch_rad: r.pitch_rad,
-                        roll_rad: r.roll_rad,
-                        yaw_rad: r.yaw_rad,
-                    };
-                    t.push((s.t_s, ned_from_body_euler(&e)));
-                }
-            }
-        }
-        progress.advance(batch.samples.len() as u64);
-    }
-    progress.end();
-    let mut outcome = multi.finish()?;
-    outcome.truth_attitude = truth;
-    Ok(outcome)
 }

@@ -1,12 +1,11 @@
 //! `sinsbench navigate`: replay one dataset under one parameter set.
 
 use crate::progress;
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use polars::prelude::{Column, DataFrame};
 use sins_data::{DatasetInfo, DatasetReader};
-use sins_harness::replay_setup::{
-    ReplayOptions, StartMode as HarnessStart, VerticalMode, build_replay,
-};
+use sins_harness::pipeline::NamedParams;
+use sins_harness::replay_setup::{ReplayOptions, StartMode as HarnessStart, VerticalMode};
 use sins_imu::{ImuErrorParams, ParamModel};
 use sins_nav::{ConingOrder, Euler, NMI_M, NavState, ned_from_body_euler};
 use sins_replay::{ErrorPoint, ReplaySummary};
@@ -110,22 +109,11 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
 
 /// Replay a dataset; returns its info, the 1 Hz error track and the summary.
 pub fn replay(args: &Args, quiet: bool) -> Result<(DatasetInfo, Vec<ErrorPoint>, ReplaySummary)> {
-    let mut reader = DatasetReader::open(&args.dataset)?;
-    let info = reader.info().clone();
+    let info = DatasetReader::open(&args.dataset)?.info().clone();
     let params = match &args.params {
         Some(p) => sins_config::load_params(p)?.params,
         None => ImuErrorParams::ideal(ParamModel::States30),
     };
-    if params.model == ParamModel::States42 && !info.has_temperature {
-        bail!(
-            "{}: the dataset has no accelerometer temperature columns (temp_ax_degc, temp_ay_degc, temp_az_degc), \
-             but the parameter set {} is a 42-state set with temperature coefficients",
-            info.path.display(),
-            args.params
-                .as_ref()
-                .map_or(String::new(), |p| p.display().to_string())
-        );
-    }
     let options = ReplayOptions {
         coning: args.algorithm.coning_order(),
         vertical: match args.vertical {
@@ -146,25 +134,25 @@ pub fn replay(args: &Args, quiet: bool) -> Result<(DatasetInfo, Vec<ErrorPoint>,
         threads: args.threads as usize,
         output_interval_s: 1.0,
     };
-    let set = args
-        .params
-        .as_ref()
-        .map_or("none".to_string(), |p| p.display().to_string());
-    let mut replay = build_replay(
-        &set,
-        &params,
-        info.meta.site,
-        info.meta.sample_interval_s(),
-        &options,
-    )?;
-    let pb = progress::bar(info.n_rows, "navigate", quiet);
-    while let Some(batch) = reader.next_batch()? {
-        replay.push_batch(&batch.samples, batch.segment_index.as_deref())?;
-        pb.inc(batch.samples.len() as u64);
-    }
-    pb.finish_and_clear();
-    let (points, summary) = replay.finish()?;
-    Ok((info, points, summary))
+    let set = NamedParams {
+        key: args
+            .params
+            .as_ref()
+            .map_or("none".to_string(), |p| p.display().to_string()),
+        params,
+    };
+    let name = args
+        .dataset
+        .file_stem()
+        .map_or("dataset".to_string(), |s| s.to_string_lossy().into_owned());
+    let mut bars = progress::Bars::new(quiet);
+    let outcome = sins_report::replay_dataset(&name, &args.dataset, &[set], &options, &mut bars)?;
+    let track = outcome
+        .tracks
+        .into_iter()
+        .next()
+        .context("internal: the replay returned no track")?;
+    Ok((info, track.points, track.summary))
 }
 
 fn initial_attitude(info: &DatasetInfo) -> Result<Euler> {
