@@ -16,7 +16,7 @@ run:
 
 # Release gate on the replica's summary.
 gate:
-    cargo run --release -- gate --summary reports/paper_replica/summary.json --thresholds experiments/gate_paper.toml
+    cargo run --release -- gate --summary reports/paper_replica/summary.json --thresholds experiments/harness/gate_paper.toml
 
 # A report on your own parameter sets and datasets.
 report CONFIG:

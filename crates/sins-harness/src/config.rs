@@ -2,7 +2,7 @@
 //! simulated calibration run, or files), what to replay (a simulated navigation experiment, or
 //! the user's datasets), which two sets to compare, and the replay options. Paths are relative
 //! to the configuration file. See `experiments/README.md` for the schema and
-//! `experiments/report_paper.toml` for the built-in replica of the paper.
+//! `experiments/harness/report_paper.toml` for the built-in replica of the paper.
 
 use crate::HarnessError;
 use crate::replay_setup::{ReplayOptions, StartMode};

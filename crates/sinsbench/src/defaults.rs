@@ -19,5 +19,5 @@ pub fn navigation_experiment() -> PathBuf {
 
 /// The default configuration of `report`: the built-in replica of the paper's Table 5.
 pub fn report_config() -> PathBuf {
-    experiments_dir().join("report_paper.toml")
+    experiments_dir().join("harness/report_paper.toml")
 }

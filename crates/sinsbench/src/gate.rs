@@ -17,7 +17,7 @@ pub struct Args {
     #[arg(long)]
     pub config: Option<PathBuf>,
     /// Thresholds (TOML): maximum horizontal error per parameter set (nmi) and minimum
-    /// improvement (%), for every experiment or per experiment. See experiments/gate_paper.toml.
+    /// improvement (%), for every experiment or per experiment. See experiments/harness/gate_paper.toml.
     #[arg(long)]
     pub thresholds: Option<PathBuf>,
     /// Also write the checks as JUnit XML (one test case per check) for CI systems.

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 pub struct Args {
     /// Report configuration (TOML; schema in experiments/README.md). Default: the built-in
-    /// replica of the paper, experiments/report_paper.toml: simulate the truth IMU's 4.2 h
+    /// replica of the paper, experiments/harness/report_paper.toml: simulate the truth IMU's 4.2 h
     /// calibration run, calibrate it with the 30- and 42-state filters, simulate the three 15 h
     /// navigation runs and replay each under both parameter sets. Your own: list your parameter
     /// files and datasets instead.

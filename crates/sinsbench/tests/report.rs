@@ -71,7 +71,7 @@ fn replica_report_then_gate() {
     );
 
     let summary_path = out.join("summary.json");
-    let gate = experiments().join("gate_paper.toml");
+    let gate = experiments().join("harness/gate_paper.toml");
     let o = run(&[
         "gate",
         "--summary",
