@@ -1,7 +1,7 @@
 //! End-to-end checks of the `sinsbench` binary: determinism of `simulate` and clear errors.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 mod common;
 use common::{csv_without_temperatures, exe, experiments};
