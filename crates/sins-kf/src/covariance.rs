@@ -50,6 +50,11 @@ impl Covariance {
         self.p[(i, i)].max(0.0).sqrt()
     }
 
+    /// Covariance of states `i` and `j`.
+    pub(crate) fn entry(&self, i: usize, j: usize) -> f64 {
+        self.p[(i, j)]
+    }
+
     /// True when every diagonal entry is finite and non-negative.
     pub(crate) fn is_healthy(&self) -> bool {
         (0..self.n()).all(|i| {

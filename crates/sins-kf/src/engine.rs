@@ -300,6 +300,15 @@ impl Engine {
         self.samples_per_update as f64 * self.h
     }
 
+    /// Covariance of the coefficient states of eq (8) (without the navigation and wander
+    /// states), row-major `n_params × n_params`, SI, state order.
+    pub(crate) fn param_covariance(&self) -> Vec<f64> {
+        let np = self.n_params;
+        (0..np * np)
+            .map(|k| self.cov.entry(NAV_STATES + k / np, NAV_STATES + k % np))
+            .collect()
+    }
+
     /// 1-sigma of the eq-(8) states (without the wander states).
     pub(crate) fn sigmas(&self) -> Vec<f64> {
         (0..NAV_STATES + self.n_params)

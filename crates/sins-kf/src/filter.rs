@@ -263,6 +263,7 @@ impl CalibrationFilter {
         Ok(CalibrationResult {
             params: self.estimate(),
             sigma: params_from_vec(&sigma[NAV_STATES..], model, reference),
+            param_covariance: engine.param_covariance(),
             initial_params: self.initial_params,
             initial_sigma: params_from_vec(&self.initial_sigma[NAV_STATES..], model, reference),
             observability: ObservabilityReport::new(

@@ -88,6 +88,10 @@ pub struct CalibrationResult {
     pub params: ImuErrorParams,
     /// 1-sigma of each coefficient (SI, same layout as `params`).
     pub sigma: ImuErrorParams,
+    /// Final covariance of the coefficient block (SI, state order of eq 8), row-major
+    /// `n × n` with n = 21 or 33; its diagonal is the square of `sigma`. For consistency
+    /// checks (NEES) that need the correlations.
+    pub param_covariance: Vec<f64>,
     /// The estimate the calibration started from.
     pub initial_params: ImuErrorParams,
     /// The prior 1-sigma of each coefficient.
