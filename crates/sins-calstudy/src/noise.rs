@@ -1,31 +1,20 @@
 //! The filter's process noise from an experiment's `[imu.noise]` section.
 
-use sins_kf::FilterNoise;
-use sins_sim::NoiseModel;
-
 /// The calibration filter's process noise for an experiment's sensor noise (`Scenario::noise`,
 /// i.e. the `[imu.noise]` section already in SI, with the Allan bias-instability figures turned
 /// into Gauss-Markov σ by `sins_config`): white gyro and accelerometer noise as given, and the
 /// Gauss-Markov bias wander with the same σ and correlation time, which the filter carries as
-/// nuisance states beside eq (8).
+/// nuisance states beside eq (8). The one conversion lives in `sins_harness::pipeline`.
 ///
 /// The gyro output quantum (`gyro_quantum_rad`) is not modelled: pulse counting with the
 /// remainder carried leaves an attitude error bounded by half a quantum (0.5 arcsec for the
 /// paper's IMU) that does not accumulate.
-pub fn filter_noise_from_experiment(noise: &NoiseModel) -> FilterNoise {
-    FilterNoise::from_sensor(
-        noise.gyro_arw_rad_per_sqrt_s,
-        noise.gyro_bias_instability_radps,
-        noise.gyro_bias_correlation_s,
-        noise.accel_vrw_mps_per_sqrt_s,
-        noise.accel_bias_instability_mps2,
-        noise.accel_bias_correlation_s,
-    )
-}
+pub use sins_harness::pipeline::filter_noise_for as filter_noise_from_experiment;
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sins_kf::FilterNoise;
     use sins_nav::{DEG_PER_H, UG};
     use sins_sim::noise::gauss_markov_sigma_from_allan;
 

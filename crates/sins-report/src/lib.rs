@@ -21,5 +21,5 @@ mod tracks;
 pub use dataset::replay_dataset;
 pub use error::ReportError;
 pub use markdown::render_markdown;
-pub use output::{ReportFiles, write_report};
+pub use output::{ReportFiles, write_dir_atomically, write_report};
 pub use run::{Progress, ReportRun, ResolvedSet, run_report};

@@ -39,15 +39,29 @@ fn write_text(path: &Path, text: &str) -> Result<(), ReportError> {
 /// Write `run` into `<reports_dir>/<name>/`, replacing an existing report only once the new one
 /// is complete.
 pub fn write_report(reports_dir: &Path, run: &ReportRun) -> Result<ReportFiles, ReportError> {
+    write_dir_atomically(reports_dir, &run.summary.name, |dir| fill(dir, run))
+}
+
+/// Create `<reports_dir>/<name>/` with the files that `fill` writes into the directory it is
+/// given (a fresh staging directory; it returns the names written). The staging directory
+/// replaces an existing `<name>/` only when `fill` succeeded; on failure it is removed and the
+/// old directory is untouched.
+pub fn write_dir_atomically<F>(
+    reports_dir: &Path,
+    name: &str,
+    fill: F,
+) -> Result<ReportFiles, ReportError>
+where
+    F: FnOnce(&Path) -> Result<Vec<String>, ReportError>,
+{
     std::fs::create_dir_all(reports_dir).map_err(|e| ReportError::io(reports_dir, e))?;
-    let name = &run.summary.name;
     let target = reports_dir.join(name);
     let staging = reports_dir.join(format!(".{name}.partial-{}", std::process::id()));
     if staging.exists() {
         std::fs::remove_dir_all(&staging).map_err(|e| ReportError::io(&staging, e))?;
     }
     std::fs::create_dir_all(&staging).map_err(|e| ReportError::io(&staging, e))?;
-    match fill(&staging, run) {
+    match fill(&staging) {
         Ok(files) => {
             swap_into_place(&staging, &target)?;
             Ok(ReportFiles { dir: target, files })
