@@ -16,6 +16,7 @@ mod output;
 mod plots;
 mod rrd;
 mod run;
+mod simulate;
 mod tracks;
 
 pub use dataset::replay_dataset;
@@ -23,3 +24,4 @@ pub use error::ReportError;
 pub use markdown::render_markdown;
 pub use output::{ReportFiles, write_dir_atomically, write_report};
 pub use run::{Progress, ReportRun, ResolvedSet, run_report};
+pub use simulate::{dataset_meta, simulate_to_dataset};

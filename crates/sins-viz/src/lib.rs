@@ -4,7 +4,9 @@
 use std::path::Path;
 
 mod nav;
-pub use nav::{Annotation, NavRecording, ScalarSeries, Strip2, TIMELINE, write_navigation};
+pub use nav::{
+    Annotation, NavRecording, ScalarSeries, Strip2, TIMELINE, write_navigation, write_timeseries,
+};
 
 /// Errors while writing a Rerun recording.
 #[derive(Debug, thiserror::Error)]

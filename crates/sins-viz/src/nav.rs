@@ -85,13 +85,40 @@ fn layout() -> Blueprint {
 
 /// Write `rec` to an `.rrd` file (application `sinsbench`, recording `name`) with its blueprint.
 pub fn write_navigation(path: &Path, name: &str, rec: &NavRecording) -> Result<(), VizError> {
+    write_with_layout(path, name, rec, layout())
+}
+
+/// Write `rec` with a plain layout: one time-series view per `(title, entity origin)`, stacked,
+/// and the text log of `segments` at the bottom when there are annotations.
+pub fn write_timeseries(
+    path: &Path,
+    name: &str,
+    rec: &NavRecording,
+    views: &[(&str, &str)],
+) -> Result<(), VizError> {
+    let mut items: Vec<rerun::blueprint::ContainerLike> = views
+        .iter()
+        .map(|(title, origin)| TimeSeriesView::new(*title).with_origin(*origin).into())
+        .collect();
+    if !rec.annotations.is_empty() {
+        items.push(TextLogView::new("segments").with_origin("segments").into());
+    }
+    write_with_layout(path, name, rec, Blueprint::new(Vertical::new(items)))
+}
+
+fn write_with_layout(
+    path: &Path,
+    name: &str,
+    rec: &NavRecording,
+    blueprint: Blueprint,
+) -> Result<(), VizError> {
     let err = |e: &dyn std::fmt::Display| VizError::Rerun {
         path: path.display().to_string(),
         message: e.to_string(),
     };
     let stream = rerun::RecordingStreamBuilder::new("sinsbench")
         .recording_name(name)
-        .with_blueprint(layout())
+        .with_blueprint(blueprint)
         .save(path)
         .map_err(|e| err(&e))?;
     for s in &rec.series {

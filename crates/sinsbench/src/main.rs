@@ -4,9 +4,11 @@
 //! `sins-config` and `sins-data`.
 
 mod bench;
+mod blind;
 mod calibrate;
 mod calreport;
 mod defaults;
+mod diagnose;
 mod gate;
 mod navigate;
 mod progress;
@@ -66,6 +68,16 @@ enum Command {
     /// error per parameter set, minimum improvement). Exit code 0 = pass, 1 = a threshold is
     /// exceeded (one line per failure), 2 = bad input.
     Gate(gate::Args),
+    /// Sim-to-real gap: replay real runs with their calibrated parameter set, compare them with
+    /// the twin (identified model + noise model), localise the gap (segment, channel, time
+    /// scale, first exit of the 3-sigma envelope), rank the catalogue of unmodelled effects by
+    /// evidence, and measure how far the gap shrinks on withheld runs. Writes report.md,
+    /// diagnosis.json, PNG plots and a .rrd.
+    Diagnose(diagnose::Args),
+    /// Blind validation of `diagnose`: cases with a hidden effect (or none, or one outside the
+    /// catalogue) drawn at random, answers sealed with SHA-256 before the diagnoses run, then
+    /// graded (top-1, false alarms, magnitudes, shrinkage, confusion table).
+    Blind(blind::Args),
     /// Measure simulation and replay speed, peak memory and the error-free navigation floor.
     Bench(bench::Args),
 }
@@ -80,6 +92,8 @@ fn main() -> std::process::ExitCode {
         Command::CalibrationReport(a) => calreport::run(a, cli.quiet),
         Command::Report(a) => report::run(a, cli.quiet),
         Command::Gate(a) => gate::run(a, cli.quiet),
+        Command::Diagnose(a) => diagnose::run(a, cli.quiet),
+        Command::Blind(a) => blind::run(a, cli.quiet),
         Command::Bench(a) => bench::run(a, cli.quiet),
     };
     if cli.stats {

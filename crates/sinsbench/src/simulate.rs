@@ -2,9 +2,7 @@
 
 use crate::{defaults, progress};
 use anyhow::{Context, Result};
-use sins_data::{ColumnSet, DatasetMeta, DatasetWriter, ReferenceRow, SampleBatch};
-use sins_nav::attitude::euler_from_ned_from_body;
-use sins_sim::{Scenario, SimBatch, Simulator};
+use sins_sim::Scenario;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `simulate`.
@@ -98,28 +96,6 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     Ok(())
 }
 
-/// Dataset metadata for a simulated scenario: site, rate, description, and the experiment,
-/// run, seed and initial attitude as extra keys.
-pub fn dataset_meta(experiment: &str, scenario: &Scenario) -> DatasetMeta {
-    let mut meta = DatasetMeta::new(
-        scenario.rate_hz,
-        scenario.site,
-        scenario.description.clone(),
-    );
-    let e = euler_from_ned_from_body(&scenario.motion.initial_ned_from_body);
-    for (k, v) in [
-        ("experiment", experiment.to_string()),
-        ("run", scenario.name.clone()),
-        ("seed", scenario.seed.to_string()),
-        ("initial_pitch_deg", e.pitch_rad.to_degrees().to_string()),
-        ("initial_roll_deg", e.roll_rad.to_degrees().to_string()),
-        ("initial_yaw_deg", e.yaw_rad.to_degrees().to_string()),
-    ] {
-        meta.extra.insert(k.to_string(), v);
-    }
-    meta
-}
-
 /// Simulate one scenario into `file` (written aside and renamed when complete).
 pub fn simulate_one(
     experiment: &str,
@@ -127,60 +103,8 @@ pub fn simulate_one(
     file: &Path,
     quiet: bool,
 ) -> Result<sins_data::WriteSummary> {
-    let mut sim = Simulator::from_scenario(scenario)
-        .with_context(|| format!("scenario '{}'", scenario.name))?;
-    let labels = sim.segment_labels().to_vec();
-    let label_of_segment = sim.segment_label_indices().to_vec();
-    let columns = ColumnSet {
-        temperature: true,
-        segment: true,
-        reference: scenario.with_reference,
-    };
-    let mut writer =
-        DatasetWriter::create(file, &dataset_meta(experiment, scenario), columns, &labels)?;
-    let pb = progress::bar(sim.n_samples() as u64, &scenario.name, quiet);
-    let mut batch = SampleBatch {
-        first_row: 0,
-        samples: Vec::new(),
-        segment_index: Some(Vec::new()),
-        reference: None,
-    };
-    sim.run(65_536, |b: &SimBatch| -> Result<()> {
-        to_sample_batch(b, &label_of_segment, &mut batch);
-        writer.write_batch(&batch)?;
-        pb.inc(b.samples.len() as u64);
-        Ok(())
-    })?;
-    pb.finish_and_clear();
-    Ok(writer.finish()?)
-}
-
-fn to_sample_batch(b: &SimBatch, label_of_segment: &[u16], out: &mut SampleBatch) {
-    out.samples.clear();
-    out.samples.extend_from_slice(&b.samples);
-    let seg = out.segment_index.get_or_insert_with(Vec::new);
-    seg.clear();
-    seg.extend(
-        b.segment_index
-            .iter()
-            .map(|&s| label_of_segment.get(s as usize).copied().unwrap_or(0)),
-    );
-    out.reference = b.reference.as_ref().map(|refs| {
-        refs.iter()
-            .map(|r| {
-                let e = euler_from_ned_from_body(&r.ned_from_body);
-                ReferenceRow {
-                    lat_rad: r.position.lat_rad,
-                    lon_rad: r.position.lon_rad,
-                    height_m: r.position.height_m,
-                    vel_n_mps: r.vel_ned_mps.x,
-                    vel_e_mps: r.vel_ned_mps.y,
-                    vel_d_mps: r.vel_ned_mps.z,
-                    pitch_rad: e.pitch_rad,
-                    roll_rad: e.roll_rad,
-                    yaw_rad: e.yaw_rad,
-                }
-            })
-            .collect()
-    });
+    let mut bars = progress::Bars::new(quiet);
+    Ok(sins_report::simulate_to_dataset(
+        experiment, scenario, file, &mut bars,
+    )?)
 }

@@ -1,0 +1,145 @@
+//! The bank of sensitivity columns of one run: each column's perturbation is rotated to NED with
+//! the sample's attitude and accumulated into the current bin's moments; at each bin end every
+//! column's linear error state is propagated, and at each output time its position error is
+//! recorded. Memory is per column and per output time, never per sample.
+
+use crate::align::{AlignmentReplica, CoarseJacobian};
+use crate::columns::{ColumnEval, Perturbation, SampleInputs, Triad};
+use crate::model::{ErrorModel, Forcing, Mat7, Moments, R_E, R_N, Vec7};
+use sins_nav::{Mat3, Vec3};
+
+/// Columns, their states and their recorded responses.
+pub struct ColumnBank {
+    evals: Vec<ColumnEval>,
+    x: Vec<Vec7>,
+    mom: Vec<Moments>,
+    coarse: Vec<(Vec3, Vec3)>,
+    /// North position response of each column at each output time (m per SI unit).
+    pub north_m: Vec<Vec<f64>>,
+    /// East position response (m per SI unit).
+    pub east_m: Vec<Vec<f64>>,
+    /// Columns whose full error state is kept at every output time.
+    keep_full: Vec<usize>,
+    /// Full states of the `keep_full` columns at each output time.
+    pub full: Vec<Vec<Vec7>>,
+    /// Full states of the `keep_full` columns at the start of navigation.
+    pub full_at_nav_start: Vec<Vec7>,
+}
+
+impl ColumnBank {
+    /// A bank of `evals`; the full state of the columns listed in `keep_full` is recorded too.
+    pub fn new(evals: Vec<ColumnEval>, keep_full: Vec<usize>) -> Self {
+        let n = evals.len();
+        Self {
+            x: vec![Vec7::zeros(); n],
+            mom: vec![Moments::default(); n],
+            coarse: vec![(Vec3::zeros(), Vec3::zeros()); n],
+            north_m: vec![Vec::new(); n],
+            east_m: vec![Vec::new(); n],
+            full: vec![Vec::new(); keep_full.len()],
+            full_at_nav_start: vec![Vec7::zeros(); keep_full.len()],
+            keep_full,
+            evals,
+        }
+    }
+
+    /// Number of columns.
+    pub fn len(&self) -> usize {
+        self.evals.len()
+    }
+
+    /// True when the bank has no column.
+    pub fn is_empty(&self) -> bool {
+        self.evals.is_empty()
+    }
+
+    /// Coarse-alignment stage: sum each column's body-frame perturbation.
+    #[inline]
+    pub fn add_coarse(&mut self, s: &SampleInputs) {
+        for (e, acc) in self.evals.iter_mut().zip(&mut self.coarse) {
+            match e.perturbation(s) {
+                Perturbation::Axis { triad, row, value } => match triad {
+                    Triad::Gyro => acc.0[row] += value,
+                    Triad::Accel => acc.1[row] += value,
+                },
+                Perturbation::Full { dtheta_rad, dv_mps } => {
+                    acc.0 += dtheta_rad;
+                    acc.1 += dv_mps;
+                }
+            }
+        }
+    }
+
+    /// End of the coarse stage of `duration_s`: each column's attitude error is the coarse
+    /// Jacobian applied to its mean specific force and rate perturbations.
+    pub fn end_coarse(&mut self, j: &CoarseJacobian, duration_s: f64) {
+        for (x, (dth, dv)) in self.x.iter_mut().zip(&self.coarse) {
+            let mut input = nalgebra::SVector::<f64, 6>::zeros();
+            input.fixed_rows_mut::<3>(0).copy_from(&(dv / duration_s));
+            input.fixed_rows_mut::<3>(3).copy_from(&(dth / duration_s));
+            let phi = j * input;
+            *x = Vec7::zeros();
+            x.fixed_rows_mut::<3>(0).copy_from(&phi);
+        }
+    }
+
+    /// Add this sample's forcing, resolved in NED with `c_nb`, applied `w_s` before the bin end.
+    #[inline]
+    pub fn add(&mut self, s: &SampleInputs, c_nb: &Mat3, w_s: f64) {
+        for (e, m) in self.evals.iter_mut().zip(&mut self.mom) {
+            let u = match e.perturbation(s) {
+                Perturbation::Axis { triad, row, value } => {
+                    let c = c_nb.column(row) * value;
+                    match triad {
+                        Triad::Gyro => Forcing::from([c.x, c.y, c.z, 0.0, 0.0]),
+                        Triad::Accel => Forcing::from([0.0, 0.0, 0.0, c.x, c.y]),
+                    }
+                }
+                Perturbation::Full { dtheta_rad, dv_mps } => {
+                    let g = c_nb * dtheta_rad;
+                    let a = c_nb * dv_mps;
+                    Forcing::from([g.x, g.y, g.z, a.x, a.y])
+                }
+            };
+            m.add(&u, w_s);
+        }
+    }
+
+    /// End of a bin: propagate every column with the bin's transition `phi`.
+    pub fn end_bin(&mut self, model: &ErrorModel, phi: &Mat7) {
+        for (x, m) in self.x.iter_mut().zip(&mut self.mom) {
+            *x = phi * *x + model.input(m);
+            *m = Moments::default();
+        }
+    }
+
+    /// A fine-alignment update `k` (closed-loop feedback, position reset).
+    pub fn align_update(&mut self, replica: &AlignmentReplica, k: usize) {
+        for x in &mut self.x {
+            replica.update_state(k, x);
+        }
+    }
+
+    /// Start of navigation: the alignment result has zero velocity and the site position.
+    pub fn nav_start(&mut self) {
+        for x in &mut self.x {
+            for i in 3..7 {
+                x[i] = 0.0;
+            }
+        }
+        for (f, &i) in self.full_at_nav_start.iter_mut().zip(&self.keep_full) {
+            *f = self.x[i];
+        }
+    }
+
+    /// Record every column's position error at an output time.
+    pub fn record(&mut self) {
+        for (i, x) in self.x.iter().enumerate() {
+            self.north_m[i].push(x[R_N]);
+            self.east_m[i].push(x[R_E]);
+        }
+        for (f, &i) in self.full.iter_mut().zip(&self.keep_full) {
+            f.push(self.x[i]);
+        }
+    }
+}

@@ -1,0 +1,230 @@
+//! Evaluate every candidate on the stacked problem, rank them, and conclude.
+
+use crate::candidates::{RegressionFit, detectable, fit_regression, fit_walk, select};
+use crate::input::DiagnoseConfig;
+use crate::problem::Problem;
+use crate::report::{CandidateModel, CandidateReport, ChiSquareTest, ComponentEstimate, Verdict};
+use crate::stats::chi2_sf;
+use sins_imu::EffectKind;
+
+/// Where a deterministic candidate's columns sit in the fit data.
+#[derive(Clone, Copy, Debug)]
+pub struct Layout {
+    /// The kind.
+    pub kind: EffectKind,
+    /// First column.
+    pub first: usize,
+    /// Number of components.
+    pub n: usize,
+}
+
+/// A candidate's evaluation.
+pub struct Evaluated {
+    /// The kind.
+    pub kind: EffectKind,
+    /// The report.
+    pub report: CandidateReport,
+    /// Deterministic candidates: their layout and fit.
+    pub regression: Option<(Layout, RegressionFit)>,
+}
+
+/// The null distribution of `gᵀ S⁻¹ g`, `scale · χ²(dof)` (Satterthwaite: same mean and
+/// variance as the exact quadratic form of a Gaussian, see `Problem::null_moments`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NullDist {
+    /// Scale `c = Var / (2 E)`.
+    pub scale: f64,
+    /// Effective degrees of freedom `ν = 2 E² / Var`.
+    pub dof: f64,
+}
+
+impl NullDist {
+    /// From the mean and variance of the quadratic form.
+    pub fn from_moments(mean: f64, var: f64) -> Self {
+        if mean > 0.0 && var > 0.0 {
+            Self {
+                scale: var / (2.0 * mean),
+                dof: 2.0 * mean * mean / var,
+            }
+        } else {
+            Self {
+                scale: 1.0,
+                dof: mean.max(1.0),
+            }
+        }
+    }
+
+    /// Test `chi2` once `removed` parameters have been fitted (reported `dof` is the expected
+    /// value of the statistic, `scale × ν`).
+    pub fn test(&self, chi2: f64, removed: usize, level: f64) -> ChiSquareTest {
+        let nu = (self.dof - removed as f64).max(1.0);
+        let p_value = chi2_sf(chi2 / self.scale, nu);
+        ChiSquareTest {
+            chi2,
+            dof: nu * self.scale,
+            p_value,
+            consistent: p_value > level,
+        }
+    }
+}
+
+/// Evaluate the deterministic candidates `layouts` and the random-walk `walks` (kind and the
+/// bias-axis offset: 0 for the gyros, 3 for the accelerometers), best first.
+pub fn evaluate(
+    p: &Problem,
+    layouts: &[Layout],
+    walks: &[(EffectKind, usize)],
+    null: &NullDist,
+    cfg: &DiagnoseConfig,
+) -> Vec<Evaluated> {
+    let n = p.gls.n as f64;
+    let chi0 = p.gls.chi2();
+    let n_tests = (layouts.iter().map(|l| l.n).sum::<usize>() + 3 * walks.len()).max(1) as f64;
+    let p_single = cfg.alpha / n_tests;
+    let mut out = Vec::new();
+    for l in layouts {
+        let rf = fit_regression(p, l.first, l.n, cfg.z_keep);
+        let k = rf.retained.len();
+        let dchi2 = rf.fit.dchi2.max(0.0);
+        let p_value = (chi2_sf(dchi2, k as f64) * n_tests).min(1.0);
+        let delta_bic = dchi2 - k as f64 * n.ln();
+        let labels = l.kind.component_labels();
+        let unit = l.kind.unit();
+        let components = (0..l.n)
+            .map(|c| {
+                let alone = rf.sigma_alone[c];
+                let pos = rf.retained.iter().position(|&r| r == c);
+                let (value, sigma) = match pos {
+                    Some(i) => (rf.fit.theta[i], Some(rf.fit.cov[(i, i)].max(0.0).sqrt())),
+                    None => (0.0, alone.is_finite().then_some(alone)),
+                };
+                ComponentEstimate {
+                    label: labels.get(c).copied().unwrap_or("?").to_string(),
+                    value,
+                    sigma,
+                    retained: pos.is_some(),
+                    detectable: alone.is_finite().then(|| detectable(alone, p_single)),
+                }
+            })
+            .collect();
+        out.push(Evaluated {
+            kind: l.kind,
+            report: CandidateReport {
+                kind: l.kind.name().to_string(),
+                description: l.kind.description().to_string(),
+                unit: unit.label.to_string(),
+                model: CandidateModel::Regression,
+                components,
+                dchi2,
+                dof: k,
+                p_value,
+                delta_bic,
+                passes: p_value < cfg.alpha && delta_bic > 0.0,
+                residual: null.test(chi0 - dchi2, k, cfg.null_alpha),
+            },
+            regression: Some((*l, rf)),
+        });
+    }
+    for &(kind, offset) in walks {
+        let unit = kind.unit();
+        let fits: Vec<_> = (0..3)
+            .map(|a| fit_walk(p, &p.walks[offset + a], kind.typical_magnitude_si()))
+            .collect();
+        let best = (0..3)
+            .max_by(|&a, &b| fits[a].dchi2.total_cmp(&fits[b].dchi2))
+            .unwrap_or(0);
+        let f = &fits[best];
+        let dchi2 = f.dchi2;
+        let p_value = (0.5 * chi2_sf(dchi2, 1.0) * n_tests).min(1.0);
+        let delta_bic = dchi2 - n.ln();
+        let labels = kind.component_labels();
+        let components = fits
+            .iter()
+            .enumerate()
+            .map(|(a, w)| ComponentEstimate {
+                label: labels.get(a).copied().unwrap_or("?").to_string(),
+                value: unit.from_si(w.intensity),
+                sigma: Some(unit.from_si(w.sigma)),
+                retained: a == best && dchi2 > 0.0,
+                detectable: None,
+            })
+            .collect();
+        out.push(Evaluated {
+            kind,
+            report: CandidateReport {
+                kind: kind.name().to_string(),
+                description: kind.description().to_string(),
+                unit: unit.label.to_string(),
+                model: CandidateModel::NoiseTerm,
+                components,
+                dchi2,
+                dof: 1,
+                p_value,
+                delta_bic,
+                passes: p_value < cfg.alpha && delta_bic > 0.0,
+                residual: null.test(f.residual_chi2, 1, cfg.null_alpha),
+            },
+            regression: None,
+        });
+    }
+    out.sort_by(|a, b| {
+        b.report
+            .passes
+            .cmp(&a.report.passes)
+            .then(b.report.delta_bic.total_cmp(&a.report.delta_bic))
+    });
+    out
+}
+
+/// Fraction of `a`'s fitted signature that `b`'s columns explain, in the twin's metric.
+fn explained(p: &Problem, a: &(Layout, RegressionFit), b: &(Layout, RegressionFit)) -> f64 {
+    let sa = select(&p.a, a.0.first, &a.1.retained) * &a.1.fit.theta;
+    let sa = nalgebra::DMatrix::from_column_slice(sa.len(), 1, sa.as_slice());
+    let norm = p.gls.gram(&sa, &sa)[(0, 0)];
+    if norm <= 0.0 {
+        return 0.0;
+    }
+    let fb = p.gls.fit_to(
+        &select(&p.a, b.0.first, &(0..b.0.n).collect::<Vec<_>>()),
+        &sa,
+    );
+    fb / norm
+}
+
+/// The conclusion from the ranked candidates and the null test.
+pub fn verdict(
+    p: &Problem,
+    ranked: &[Evaluated],
+    null: &ChiSquareTest,
+    cfg: &DiagnoseConfig,
+) -> Verdict {
+    let passing: Vec<&Evaluated> = ranked.iter().filter(|e| e.report.passes).collect();
+    let Some(best) = passing.first() else {
+        return if null.consistent {
+            Verdict::NoSignificantGap
+        } else {
+            Verdict::Unexplained
+        };
+    };
+    if let Some(second) = passing.get(1) {
+        let close = best.report.dchi2 - second.report.dchi2 < cfg.separability_dchi2;
+        let alike = match (&best.regression, &second.regression) {
+            (Some(a), Some(b)) => explained(p, a, b).max(explained(p, b, a)) > cfg.separability_r2,
+            _ => true,
+        };
+        if close && alike {
+            return Verdict::NotSeparable {
+                candidates: vec![best.report.kind.clone(), second.report.kind.clone()],
+            };
+        }
+    }
+    if best.report.residual.consistent {
+        Verdict::Explained {
+            by: best.report.kind.clone(),
+        }
+    } else {
+        Verdict::PartlyExplained {
+            by: best.report.kind.clone(),
+        }
+    }
+}

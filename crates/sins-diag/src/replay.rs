@@ -1,0 +1,110 @@
+//! The real error track of a run: replay its samples with the calibrated parameter set exactly
+//! as `sinsbench navigate` does (self-alignment, reconstruction, vertical channel held), and
+//! collect the per-second temperature means in the same pass.
+
+use crate::error::DiagError;
+use crate::source::SampleSource;
+use crate::temperature::TemperatureSeries;
+use sins_imu::{Compensator, ImuErrorParams};
+use sins_nav::alignment::AlignmentConfig;
+use sins_nav::reconstruct::ReconstructConfig;
+use sins_nav::{ConingOrder, Geodetic, StrapdownConfig, VerticalChannel};
+use sins_replay::{ErrorPoint, Replay, ReplayConfig, ReplaySummary, Start};
+
+/// How the real pipeline replays a run (must match the replay that produced a given track).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReplaySetup {
+    /// Self-alignment settings (default: 20 min, as `navigate --start align`).
+    pub alignment: AlignmentConfig,
+    /// Increment algorithm (default: reconstruction).
+    pub coning: ConingOrder,
+    /// Reconstruction settings (threads do not change results).
+    pub reconstruct: ReconstructConfig,
+    /// Half-window of the temperature-rate fit (s).
+    pub temperature_rate_half_window_s: usize,
+}
+
+impl Default for ReplaySetup {
+    fn default() -> Self {
+        Self {
+            alignment: AlignmentConfig::default(),
+            coning: ConingOrder::Reconstruct,
+            reconstruct: ReconstructConfig::default(),
+            temperature_rate_half_window_s: 60,
+        }
+    }
+}
+
+impl ReplaySetup {
+    /// The mechanization settings for data sampled every `h_s` at `site` (height held).
+    pub fn strapdown(&self, h_s: f64, site: &Geodetic) -> StrapdownConfig {
+        StrapdownConfig {
+            sample_interval_s: h_s,
+            coning: self.coning,
+            vertical: VerticalChannel::Hold {
+                height_m: site.height_m,
+            },
+        }
+    }
+}
+
+/// The real error track of one run and what the diagnosis needs besides.
+#[derive(Clone, Debug)]
+pub struct RealTrack {
+    /// 1 Hz error points (north/east position and velocity errors, attitude estimate).
+    pub points: Vec<ErrorPoint>,
+    /// Per-second temperature means and rates.
+    pub temperatures: TemperatureSeries,
+    /// Summary of the replay (maximum / RMS / final horizontal error).
+    pub summary: Option<ReplaySummary>,
+}
+
+/// Replay `source` at `site` with `params` as the real pipeline does; one pass.
+pub fn replay_run(
+    run: &str,
+    source: &mut dyn SampleSource,
+    params: &ImuErrorParams,
+    site: &Geodetic,
+    setup: &ReplaySetup,
+) -> Result<RealTrack, DiagError> {
+    let h = source.sample_interval_s();
+    let t0 = source.start_time_s();
+    let comp = Compensator::new(*params)
+        .ok_or_else(|| DiagError::input(run, "parameter set is singular (I + E not invertible)"))?;
+    let config = ReplayConfig {
+        nav: setup.strapdown(h, site),
+        start: Start::SelfAlign(setup.alignment),
+        output_interval_s: 1.0,
+    };
+    let mut replay = Replay::new(config, comp, *site, t0).with_reconstruction(setup.reconstruct);
+    let mut temps = TemperatureSeries::new(t0);
+    source.visit(&mut |samples, segments| {
+        for (s, &g) in samples.iter().zip(segments) {
+            temps.push(s, h);
+            replay.push(s, g)?;
+        }
+        Ok(())
+    })?;
+    temps.finish(setup.temperature_rate_half_window_s);
+    let (points, summary) = replay.finish()?;
+    Ok(RealTrack {
+        points,
+        temperatures: temps,
+        summary: Some(summary),
+    })
+}
+
+/// The temperature series of a run alone (a cheap pass), for tracks replayed elsewhere.
+pub fn temperature_series(
+    source: &mut dyn SampleSource,
+    half_window_s: usize,
+) -> Result<TemperatureSeries, DiagError> {
+    let h = source.sample_interval_s();
+    let mut temps = TemperatureSeries::new(source.start_time_s());
+    source.visit(&mut |samples, _| {
+        samples.iter().for_each(|s| temps.push(s, h));
+        Ok(())
+    })?;
+    temps.finish(half_window_s);
+    Ok(temps)
+}

@@ -1,0 +1,220 @@
+//! The serialisable result of a diagnosis.
+
+use serde::{Deserialize, Serialize};
+
+/// A chi-square consistency test.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ChiSquareTest {
+    /// The statistic `gᵀ S⁻¹ g` (after any fitted terms).
+    pub chi2: f64,
+    /// Its expected value if the model is right (the number of data less what the white floor
+    /// of the metric absorbs, less the fitted parameters).
+    pub dof: f64,
+    /// Probability of a value at least this large if the model is right.
+    pub p_value: f64,
+    /// True when `p_value` is above the configured level.
+    pub consistent: bool,
+}
+
+/// How a candidate enters the model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CandidateModel {
+    /// A deterministic term: regression columns, GLS magnitudes.
+    Regression,
+    /// A random process: an added noise term whose intensity is fitted by maximum likelihood.
+    NoiseTerm,
+}
+
+/// One magnitude component of a candidate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ComponentEstimate {
+    /// Component label (`x`, `y`, `z`, or `ax.y` ... for the size effect).
+    pub label: String,
+    /// Fitted value in the candidate's unit (0 when not retained).
+    pub value: f64,
+    /// Its 1-sigma (`None` when the data cannot identify it).
+    pub sigma: Option<f64>,
+    /// Kept in the final model of this candidate.
+    pub retained: bool,
+    /// Magnitude detected with 90 % probability at the configured significance when this
+    /// component is the only effect (unit; `None` for noise terms and unidentifiable ones).
+    pub detectable: Option<f64>,
+}
+
+/// The evidence for one candidate effect.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CandidateReport {
+    /// Effect kind name (`sins_imu::EffectKind::name`).
+    pub kind: String,
+    /// One line of physics.
+    pub description: String,
+    /// Unit of the magnitudes (paper style).
+    pub unit: String,
+    /// Regression term or noise term.
+    pub model: CandidateModel,
+    /// Per-component estimates.
+    pub components: Vec<ComponentEstimate>,
+    /// Drop of the chi-square (2 × log-likelihood ratio) against the twin alone.
+    pub dchi2: f64,
+    /// Parameters used (retained components).
+    pub dof: usize,
+    /// Tail probability of `dchi2`, multiplied by the number of components tried
+    /// (Bonferroni over the catalogue).
+    pub p_value: f64,
+    /// Bayesian information criterion improvement `dchi2 - dof ln n` (positive favours it).
+    pub delta_bic: f64,
+    /// Passes the significance level and has a positive BIC improvement.
+    pub passes: bool,
+    /// Consistency of what is left once this candidate is added.
+    pub residual: ChiSquareTest,
+}
+
+/// The conclusion.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "verdict", rename_all = "snake_case")]
+pub enum Verdict {
+    /// The real tracks are consistent with the twin and no candidate is significant.
+    NoSignificantGap,
+    /// One candidate explains the gap: significant, and the residual is consistent.
+    Explained {
+        /// Kind name.
+        by: String,
+    },
+    /// The best candidate is significant but the residual is still inconsistent with the twin.
+    PartlyExplained {
+        /// Kind name.
+        by: String,
+    },
+    /// The gap is significant and no candidate of the catalogue explains it.
+    Unexplained,
+    /// The best candidates leave signatures the data cannot tell apart.
+    NotSeparable {
+        /// Kind names, best first.
+        candidates: Vec<String>,
+    },
+}
+
+/// One segment and channel of a run's gap.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SegmentGap {
+    /// Segment label.
+    pub segment: String,
+    /// `north` or `east`.
+    pub channel: String,
+    /// Largest |gap| in the segment (m).
+    pub max_abs_m: f64,
+    /// RMS gap in the segment (m).
+    pub rms_m: f64,
+    /// Largest |gap| / twin sigma.
+    pub max_sigmas: f64,
+    /// Output points in the segment.
+    pub points: usize,
+}
+
+/// Share of a channel's gap energy on one time-scale basis.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TimeScaleShare {
+    /// `north` or `east`.
+    pub channel: String,
+    /// `secular`, `foucault_24h`, `schuler_84min`, `segment_steps` or `residual`.
+    pub basis: String,
+    /// Fraction of the gap's energy (sum of squares) on this basis (after the previous ones).
+    pub share: f64,
+}
+
+/// Where one run's gap lies.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunLocalisation {
+    /// Run name.
+    pub run: String,
+    /// Per segment and channel.
+    pub segments: Vec<SegmentGap>,
+    /// First time the gap leaves the twin's 3-sigma envelope on either channel (s), if it does.
+    pub first_exit_s: Option<f64>,
+    /// Channel of that first exit.
+    pub first_exit_channel: Option<String>,
+    /// Segment of that first exit.
+    pub first_exit_segment: Option<String>,
+    /// Time-scale decomposition.
+    pub time_scales: Vec<TimeScaleShare>,
+    /// `gᵀ S⁻¹ g` of this run alone against its number of data.
+    pub chi2: ChiSquareTest,
+}
+
+/// Gap metrics of one run before and after adding the fitted effect(s).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GapMetrics {
+    /// |max horizontal error of the real track - that of the prediction| (m).
+    pub max_horizontal_gap_m: f64,
+    /// RMS over time of the horizontal gap vector (m).
+    pub rms_gap_m: f64,
+}
+
+/// Withheld validation of the winning effect.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ValidationReport {
+    /// Effect kind name.
+    pub kind: String,
+    /// The fitting data determined the effect (a retained component at |z| ≥ 3); when false the
+    /// prediction is the twin alone and the shrinkage is zero.
+    pub informative: bool,
+    /// What the fit used (run names joined by `+`, or `<run>[first half]`).
+    pub fitted_on: String,
+    /// What it was evaluated on.
+    pub evaluated_on: String,
+    /// Fitted magnitudes (unit of the kind), retained components.
+    pub magnitudes: Vec<(String, f64, f64)>,
+    /// Before (twin alone).
+    pub before: GapMetrics,
+    /// After (twin + fitted effect).
+    pub after: GapMetrics,
+    /// `100 (1 - after/before)` for the RMS gap.
+    pub rms_shrinkage_percent: f64,
+    /// `100 (1 - after/before)` for the maximum-horizontal-error gap.
+    pub max_shrinkage_percent: f64,
+}
+
+/// Time series of one run on the output grid, for plots.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RunSeries {
+    /// Run name.
+    pub run: String,
+    /// Output times (s).
+    pub t_s: Vec<f64>,
+    /// Segment label at each time.
+    pub segment: Vec<String>,
+    /// Gap real - twin mean, north (m).
+    pub gap_north_m: Vec<f64>,
+    /// Gap, east (m).
+    pub gap_east_m: Vec<f64>,
+    /// Twin 1-sigma, north (m).
+    pub sigma_north_m: Vec<f64>,
+    /// Twin 1-sigma, east (m).
+    pub sigma_east_m: Vec<f64>,
+    /// Prediction of the winning effect fitted to all runs, north (m; zeros if none).
+    pub fitted_north_m: Vec<f64>,
+    /// Same, east (m).
+    pub fitted_east_m: Vec<f64>,
+}
+
+/// The whole diagnosis.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Diagnosis {
+    /// Total data used by the fits (two channels per fit time per run).
+    pub n_data: usize,
+    /// `gᵀ S⁻¹ g` of all runs together: is the gap consistent with the twin?
+    pub null_test: ChiSquareTest,
+    /// Candidates, best first (by BIC improvement).
+    pub candidates: Vec<CandidateReport>,
+    /// The conclusion.
+    pub verdict: Verdict,
+    /// Where the gap lies, per run.
+    pub localisation: Vec<RunLocalisation>,
+    /// Withheld validation of the winner (empty without a deterministic winner).
+    pub validation: Vec<ValidationReport>,
+    /// Series for plots.
+    pub series: Vec<RunSeries>,
+    /// Notes on assumptions and anything skipped.
+    pub notes: Vec<String>,
+}
