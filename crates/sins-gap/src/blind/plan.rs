@@ -75,6 +75,20 @@ impl Default for SuiteShape {
     }
 }
 
+/// `x` rounded to `digits` significant digits.
+fn round_sig(x: f64, digits: i32) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let e = digits - 1 - x.abs().log10().floor() as i32;
+    let f = 10f64.powi(e.abs());
+    if e >= 0 {
+        (x * f).round() / f
+    } else {
+        (x / f).round() * f
+    }
+}
+
 /// Draw the cases of a suite from `suite_seed`: the in-catalogue kinds in turn (so that every
 /// kind is covered), components and magnitudes at random, then the order shuffled.
 pub fn draw_cases(shape: &SuiteShape, suite_seed: u64) -> Vec<CaseAnswer> {
@@ -105,7 +119,8 @@ pub fn draw_cases(shape: &SuiteShape, suite_seed: u64) -> Vec<CaseAnswer> {
             let hidden = kind.map(|k| {
                 let component =
                     ((uniform() * k.n_components() as f64) as usize).min(k.n_components() - 1);
-                let times = lo * (hi / lo).powf(uniform());
+                // Six significant digits: the manifests (JSON) then read back exactly.
+                let times = round_sig(lo * (hi / lo).powf(uniform()), 6);
                 let sign = if uniform() < 0.5 { -1.0 } else { 1.0 };
                 // Random-walk intensities and time constants are positive.
                 let sign = match k.linearity() {
@@ -117,7 +132,7 @@ pub fn draw_cases(shape: &SuiteShape, suite_seed: u64) -> Vec<CaseAnswer> {
                     in_catalogue: k.in_catalogue(),
                     component,
                     component_label: k.component_labels()[component].to_string(),
-                    magnitude: sign * times * k.typical_magnitude(),
+                    magnitude: round_sig(sign * times * k.typical_magnitude(), 6),
                     unit: k.unit().label.to_string(),
                     times_typical: times,
                 }
@@ -158,7 +173,7 @@ mod tests {
         }
         for c in &a {
             if let Some(h) = &c.hidden {
-                assert!((2.0..=20.0).contains(&h.times_typical));
+                assert!((1.99..=20.01).contains(&h.times_typical));
                 let spec = c.spec().unwrap();
                 let m = spec.magnitudes_si();
                 let kind = EffectKind::from_name(&h.kind).unwrap();
