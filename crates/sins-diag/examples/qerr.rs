@@ -53,6 +53,7 @@ fn main() {
         }],
         params: truth,
         param_sigma: None,
+        param_covariance: None,
         noise,
     };
     let cfg = DiagnoseConfig {

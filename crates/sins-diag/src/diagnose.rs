@@ -2,7 +2,7 @@
 //! parallel), the gap on the fit grid, the null test, the candidates, the verdict, the
 //! localisation and the withheld validation.
 
-use crate::columns::slots_of;
+use crate::calib::{ParamUncertainty, uncertainty};
 use crate::error::DiagError;
 use crate::input::{DiagnoseConfig, DiagnosisInput, RunData};
 use crate::localise::{GapSeries, localise};
@@ -137,17 +137,14 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
             }
         }
     }
-    let sigma_vec = input.param_sigma.as_ref().map(crate::columns::param_vector);
-    let param_cols: Vec<(ColumnId, f64)> = match &sigma_vec {
-        Some(sv) => slots_of(input.params.model)
-            .filter(|(i, _)| sv[*i] > 0.0)
-            .map(|(i, _)| (ColumnId::Param(i), sv[i]))
-            .collect(),
-        None => {
-            notes.push("no calibration one-sigma given: calibration uncertainty ignored".into());
-            Vec::new()
-        }
-    };
+    let pu = uncertainty(
+        &input.params,
+        input.param_sigma.as_ref(),
+        input.param_covariance.as_deref(),
+    )?;
+    if pu.is_none() {
+        notes.push("no calibration uncertainty given: calibration errors ignored".into());
+    }
     // Gaps and fit data.
     let walk_step = (cfg.walk_step_s / cfg.fit_interval_s).max(1);
     let mut series = Vec::new();
@@ -168,12 +165,12 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
             s,
             &gap_fit,
             cfg.floor_sigma_m,
-            &param_cols,
+            pu.as_ref(),
             &cand_cols,
             walk_step,
             cfg.fit_interval_s as f64,
         )?;
-        let sigma_m = envelope(s, &param_cols, cfg.floor_sigma_m);
+        let sigma_m = envelope(s, pu.as_ref(), cfg.floor_sigma_m);
         series.push(GapSeries {
             run: r.name.clone(),
             nav_start_s: s.times.nav_start_s,
@@ -292,17 +289,27 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
 }
 
 /// Twin 1-sigma `[north, east]` at each output time: noise, calibration, floor.
-fn envelope(s: &RunSensitivity, param_cols: &[(ColumnId, f64)], floor: f64) -> Vec<[f64; 2]> {
+fn envelope(s: &RunSensitivity, pu: Option<&ParamUncertainty>, floor: f64) -> Vec<[f64; 2]> {
+    let cols: Vec<Option<usize>> = pu.map_or(Vec::new(), |p| {
+        p.ids.iter().map(|&id| s.column(id)).collect()
+    });
     (0..s.times.times_s.len())
         .map(|k| {
             let mut v = [
                 s.envelope[k][0] + floor * floor,
                 s.envelope[k][1] + floor * floor,
             ];
-            for &(id, sigma) in param_cols {
-                if let Some(c) = s.column(id) {
-                    v[0] += (sigma * s.north_m[c][k]).powi(2);
-                    v[1] += (sigma * s.east_m[c][k]).powi(2);
+            if let Some(p) = pu {
+                for j in 0..p.factor.ncols() {
+                    let (mut n, mut e) = (0.0, 0.0);
+                    for (i, c) in cols.iter().enumerate() {
+                        if let Some(c) = c {
+                            n += s.north_m[*c][k] * p.factor[(i, j)];
+                            e += s.east_m[*c][k] * p.factor[(i, j)];
+                        }
+                    }
+                    v[0] += n * n;
+                    v[1] += e * e;
                 }
             }
             [v[0].max(0.0).sqrt(), v[1].max(0.0).sqrt()]

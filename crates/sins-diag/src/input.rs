@@ -37,9 +37,13 @@ pub struct DiagnosisInput {
     pub runs: Vec<RunData>,
     /// The calibrated parameter set (what the real replay compensated with).
     pub params: ImuErrorParams,
-    /// One-sigma of each calibrated coefficient (SI, same layout), if known. Treated as
-    /// independent; its effect is common to all runs.
+    /// One-sigma of each calibrated coefficient (SI, same layout), if known, treated as
+    /// independent. Its effect is common to all runs.
     pub param_sigma: Option<ImuErrorParams>,
+    /// Full covariance of the coefficients the model uses (SI, row-major, eq 8 state order,
+    /// 21 × 21 or 33 × 33: the calibration filter's `param_covariance`); takes precedence over
+    /// `param_sigma`.
+    pub param_covariance: Option<Vec<f64>>,
     /// Sensor noise of the twin.
     pub noise: NoiseSpec,
 }
@@ -94,7 +98,7 @@ impl Default for DiagnoseConfig {
             output_interval_s: 10,
             fit_interval_s: 120,
             floor_sigma_m: 1.0,
-            floor_expected_sigma_m: 0.3,
+            floor_expected_sigma_m: 0.2,
             alpha: 1e-3,
             null_alpha: 1e-3,
             z_keep: 2.0,

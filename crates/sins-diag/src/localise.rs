@@ -7,8 +7,9 @@
 //! heading errors and the Earth-rate oscillation), `schuler_84min` (sine and cosine at the Schuler
 //! frequency √(g/R), also times τ for the slow Foucault modulation), `segment_steps` (a step and a
 //! ramp at each change of segment label: an effect that switches with vibration or motion), and
-//! the `residual`. The order makes the shares add up to one; a signal that several groups can
-//! represent goes to the earliest.
+//! the `residual`. The order makes the nested shares add up to one (a signal that several
+//! groups can represent goes to the earliest); the unique share of a group is what only it
+//! explains (full model less the model without it).
 
 use crate::gls::pseudo_inverse;
 use crate::report::{ChiSquareTest, RunLocalisation, SegmentGap, TimeScaleShare};
@@ -141,38 +142,127 @@ fn time_scales(s: &GapSeries, schuler_radps: f64) -> Vec<TimeScaleShare> {
     for (c, name) in CHANNELS.iter().enumerate() {
         let g = DVector::from_fn(n, |k, _| s.gap_m[k][c]);
         let total = g.norm_squared();
-        let mut basis: Vec<Vec<f64>> = Vec::new();
-        let mut explained_prev = 0.0;
-        for (gname, cols) in &groups {
-            basis.extend(cols.iter().cloned());
-            let explained = if total > 0.0 && !basis.is_empty() {
-                let xm = DMatrix::from_fn(n, basis.len(), |i, j| basis[j][i]);
-                let (pinv, _) = pseudo_inverse(&(xm.transpose() * &xm));
-                let beta = pinv * (xm.transpose() * &g);
-                (&xm * beta).norm_squared().min(total)
+        let explained = |cols: &[&Vec<f64>]| -> f64 {
+            if total <= 0.0 || cols.is_empty() {
+                return 0.0;
+            }
+            let xm = DMatrix::from_fn(n, cols.len(), |i, j| cols[j][i]);
+            let (pinv, _) = pseudo_inverse(&(xm.transpose() * &xm));
+            let beta = pinv * (xm.transpose() * &g);
+            (&xm * beta).norm_squared().min(total)
+        };
+        let all: Vec<&Vec<f64>> = groups.iter().flat_map(|(_, cols)| cols.iter()).collect();
+        let full = explained(&all);
+        let frac = |e: f64| {
+            if total > 0.0 {
+                (e / total).max(0.0)
             } else {
                 0.0
-            };
+            }
+        };
+        let mut prev = 0.0;
+        for (k, (gname, _)) in groups.iter().enumerate() {
+            let upto: Vec<&Vec<f64>> = groups[..=k].iter().flat_map(|(_, c)| c.iter()).collect();
+            let nested = explained(&upto).max(prev);
+            let without: Vec<&Vec<f64>> = groups
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| *j != k)
+                .flat_map(|(_, (_, c))| c.iter())
+                .collect();
             out.push(TimeScaleShare {
                 channel: name.to_string(),
                 basis: gname.to_string(),
-                share: if total > 0.0 {
-                    ((explained - explained_prev) / total).max(0.0)
-                } else {
-                    0.0
-                },
+                share: frac(nested - prev),
+                unique: frac(full - explained(&without)),
             });
-            explained_prev = explained.max(explained_prev);
+            prev = nested;
         }
         out.push(TimeScaleShare {
             channel: name.to_string(),
             basis: "residual".into(),
-            share: if total > 0.0 {
-                (1.0 - explained_prev / total).max(0.0)
-            } else {
-                0.0
-            },
+            share: frac(total - prev),
+            unique: 0.0,
         });
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn series(gap: impl Fn(f64) -> [f64; 2], step_at: f64) -> GapSeries {
+        let t_s: Vec<f64> = (1..=5000).map(|k| 1200.0 + 10.0 * k as f64).collect();
+        GapSeries {
+            run: "r".into(),
+            nav_start_s: 1200.0,
+            segment: t_s.iter().map(|&t| u16::from(t >= step_at)).collect(),
+            gap_m: t_s.iter().map(|&t| gap(t - 1200.0)).collect(),
+            twin_m: vec![[0.0; 2]; t_s.len()],
+            sigma_m: vec![[10.0; 2]; t_s.len()],
+            t_s,
+        }
+    }
+
+    fn share(l: &RunLocalisation, channel: &str, basis: &str) -> f64 {
+        l.time_scales
+            .iter()
+            .find(|s| s.channel == channel && s.basis == basis)
+            .map_or(f64::NAN, |s| s.share)
+    }
+
+    #[test]
+    fn time_scales_segments_and_envelope_exit_are_found() {
+        let ws = 2.0 * std::f64::consts::PI / (84.4 * 60.0);
+        let labels = vec!["stationary".to_string(), "pattern1".to_string()];
+        let test = ChiSquareTest {
+            chi2: 0.0,
+            dof: 1.0,
+            p_value: 1.0,
+            consistent: true,
+        };
+        // North: a pure Schuler oscillation; east: a step at 30000 s growing as a ramp.
+        let s = series(
+            |tau| {
+                let east = if tau >= 28_800.0 {
+                    50.0 + 0.01 * (tau - 28_800.0)
+                } else {
+                    0.0
+                };
+                [40.0 * (ws * tau).sin(), east]
+            },
+            30_000.0,
+        );
+        let l = localise(&s, &labels, ws, test);
+        assert!(
+            share(&l, "north", "schuler_84min") > 0.95,
+            "{:?}",
+            l.time_scales
+        );
+        let unique = |basis: &str| {
+            l.time_scales
+                .iter()
+                .find(|s| s.channel == "east" && s.basis == basis)
+                .map_or(f64::NAN, |s| s.unique)
+        };
+        assert!(unique("segment_steps") > 0.003, "{:?}", l.time_scales);
+        assert!(unique("segment_steps") > 10.0 * unique("schuler_84min"));
+        let total: f64 = l
+            .time_scales
+            .iter()
+            .filter(|s| s.channel == "east")
+            .map(|s| s.share)
+            .sum();
+        assert!((total - 1.0).abs() < 1e-9);
+        // The Schuler wave reaches 4 sigma first, a quarter period in.
+        let exit = l.first_exit_s.expect("exits");
+        assert!((exit - 1200.0 - 84.4 * 60.0 / 4.0).abs() < 600.0, "{exit}");
+        assert_eq!(l.first_exit_channel.as_deref(), Some("north"));
+        let seg = l
+            .segments
+            .iter()
+            .find(|g| g.segment == "pattern1" && g.channel == "east");
+        assert!(seg.is_some_and(|g| g.max_abs_m > 50.0 && g.points > 0));
+    }
 }

@@ -2,6 +2,7 @@
 //! responses, candidate columns in the candidates' units, random-walk factors), and the stacked,
 //! whitened form of any selection of runs.
 
+use crate::calib::ParamUncertainty;
 use crate::error::DiagError;
 use crate::gls::{Gls, Whitener};
 use crate::model::{R_E, R_N, Vec7};
@@ -50,13 +51,13 @@ impl RunFitData {
     }
 }
 
-/// Build the fit data of one run: `gap_fit` at its fit times, `param_sigma` (SI, by column of
-/// `param_cols`), `cand_cols` with their SI value of one candidate unit.
+/// Build the fit data of one run: `gap_fit` at its fit times, the calibration uncertainty
+/// `pu`, `cand_cols` with their SI value of one candidate unit.
 pub fn run_fit_data(
     s: &RunSensitivity,
     gap_fit: &[[f64; 2]],
     floor_sigma_m: f64,
-    param_cols: &[(ColumnId, f64)],
+    pu: Option<&ParamUncertainty>,
     cand_cols: &[(ColumnId, f64)],
     walk_step_points: usize,
     fit_interval_s: f64,
@@ -82,10 +83,16 @@ pub fn run_fit_data(
                 }
         }))
     };
-    let mut params = DMatrix::zeros(rows, param_cols.len());
-    for (j, &(id, sigma)) in param_cols.iter().enumerate() {
-        params.set_column(j, &col(id, sigma)?);
-    }
+    let params = match pu {
+        Some(pu) => {
+            let mut raw = DMatrix::zeros(rows, pu.ids.len());
+            for (j, &id) in pu.ids.iter().enumerate() {
+                raw.set_column(j, &col(id, 1.0)?);
+            }
+            raw * &pu.factor
+        }
+        None => DMatrix::zeros(rows, 0),
+    };
     let mut columns = DMatrix::zeros(rows, cand_cols.len());
     for (j, &(id, unit)) in cand_cols.iter().enumerate() {
         columns.set_column(j, &col(id, unit)?);

@@ -119,8 +119,14 @@ pub struct TimeScaleShare {
     pub channel: String,
     /// `secular`, `foucault_24h`, `schuler_84min`, `segment_steps` or `residual`.
     pub basis: String,
-    /// Fraction of the gap's energy (sum of squares) on this basis (after the previous ones).
+    /// Fraction of the gap's energy (sum of squares) on this basis after the previous ones
+    /// (nested in the order listed; the shares of a channel add up to one).
     pub share: f64,
+    /// Fraction that only this basis explains: the full model's explained energy less that of
+    /// the model without this basis (0 for the residual). A step at a segment start that a
+    /// slow quadratic also roughly follows gets its nested share under `secular` but its unique
+    /// share here.
+    pub unique: f64,
 }
 
 /// Where one run's gap lies.

@@ -35,6 +35,23 @@ fn calibration_errors_within_their_sigma_are_no_gap() {
     let mut inp = input(&[sc], &params, Some(sigma));
     let with = diagnose(&mut inp, &cfg).expect("diagnosis");
     eprintln!("with calibration sigma: {}", summary(&with));
+    // The same uncertainty as a full covariance (the calibration filter's form) gives the same
+    // metric.
+    let sv = sins_diag::columns::param_vector(&sigma);
+    let mut cov = vec![0.0; 33 * 33];
+    for i in 0..33 {
+        cov[i * 33 + i] = sv[i] * sv[i];
+    }
+    inp.param_covariance = Some(cov);
+    let full = diagnose(&mut inp, &cfg).expect("diagnosis");
+    let rel = (full.null_test.chi2 - with.null_test.chi2).abs() / with.null_test.chi2;
+    assert!(
+        rel < 1e-6,
+        "{} vs {}",
+        full.null_test.chi2,
+        with.null_test.chi2
+    );
+    inp.param_covariance = None;
     inp.param_sigma = None;
     let without = diagnose(&mut inp, &cfg).expect("diagnosis");
     eprintln!("without: {}", summary(&without));

@@ -22,6 +22,9 @@ pub struct DiagnoseRequest {
     pub params: ImuErrorParams,
     /// Its one-sigma per coefficient, when the parameter file carries it.
     pub param_sigma: Option<ImuErrorParams>,
+    /// Its full covariance (row-major, eq-8 order, SI) when known (a calibration run in
+    /// memory); wins over `param_sigma`.
+    pub param_covariance: Option<Vec<f64>>,
     /// The twin's sensor noise.
     pub noise: NoiseSpec,
     /// Diagnosis settings.
@@ -99,6 +102,7 @@ pub fn diagnose_datasets(req: &DiagnoseRequest) -> Result<DiagnosisOutcome, GapE
         runs,
         params: req.params,
         param_sigma: req.param_sigma,
+        param_covariance: req.param_covariance.clone(),
         noise: req.noise,
     };
     let t = Instant::now();

@@ -53,6 +53,7 @@ fn request(file: PathBuf) -> DiagnoseRequest {
         datasets: vec![("short".into(), file)],
         params: truth.params,
         param_sigma: None,
+        param_covariance: None,
         noise: NoiseSpec::from(&exp.scenarios[0].noise),
         config: DiagnoseConfig::default(),
     }

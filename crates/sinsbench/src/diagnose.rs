@@ -87,6 +87,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         datasets,
         params: set.params,
         param_sigma: set.sigma,
+        param_covariance: None,
         noise,
         config,
     })?;

@@ -125,6 +125,7 @@ pub fn sensitivity(
         replay: &replay,
         candidates,
         grid,
+        refine: None,
     };
     run_sensitivity("test", src, &sc.site, &t.points, &t.temperatures, &setup).expect("pass")
 }
@@ -215,6 +216,7 @@ pub fn input(
         runs,
         params: *params,
         param_sigma: sigma,
+        param_covariance: None,
         noise: NoiseSpec::from(&scenarios[0].noise),
     }
 }

@@ -131,6 +131,7 @@ pub fn run_suite(cfg: &SuiteConfig, progress: &mut dyn Progress) -> Result<Suite
             datasets: datasets.clone(),
             params: cal.params,
             param_sigma: Some(cal.sigma),
+            param_covariance: Some(cal.param_covariance.clone()),
             noise,
             config: cfg.diagnose.clone(),
         };
