@@ -71,10 +71,9 @@ pub fn build_replay(
     sample_interval_s: f64,
     options: &ReplayOptions,
 ) -> Result<Replay, HarnessError> {
-    let compensator =
-        Compensator::new(params.clone()).ok_or_else(|| HarnessError::SingularParams {
-            set: set.to_string(),
-        })?;
+    let compensator = Compensator::new(*params).ok_or_else(|| HarnessError::SingularParams {
+        set: set.to_string(),
+    })?;
     let vertical = match options.vertical {
         VerticalMode::Hold => VerticalChannel::Hold {
             height_m: site.height_m,

@@ -91,10 +91,10 @@ fn fill(dir: &Path, run: &ReportRun) -> Result<Vec<String>, ReportError> {
     for s in run.sets.iter().filter(|s| s.calibrated) {
         let p = format!("params_{}.toml", s.key);
         write_params(
-            &dir.join(&p),
+            dir.join(&p),
             &ParamSet {
-                params: s.params.clone(),
-                sigma: s.sigma.clone(),
+                params: s.params,
+                sigma: s.sigma,
                 description: s.source.clone(),
             },
         )?;

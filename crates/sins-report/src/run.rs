@@ -74,7 +74,7 @@ pub fn run_report(
         .iter()
         .map(|s| NamedParams {
             key: s.key.clone(),
-            params: s.params.clone(),
+            params: s.params,
         })
         .collect();
     let mut outcomes = Vec::new();

@@ -76,6 +76,16 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
         "--out",
         &p(&args.dir),
     ])?;
+    child(&[
+        "simulate",
+        &p(&nav_exp),
+        "--run",
+        "nav2",
+        "--run",
+        "nav3",
+        "--out",
+        &p(&args.dir),
+    ])?;
     let dataset = args.dir.join("nav1.parquet");
     let bytes = std::fs::metadata(&dataset).map(|m| m.len()).unwrap_or(0);
     println!(
@@ -99,10 +109,11 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
     );
     print!("{}", indent(&m.stdout));
 
-    let cal_exp = exp.join("paper_calibration.toml");
+    // The navigation runs' own IMU (Table 1 constants + Table 3 temperature coefficients).
+    let cal_exp = exp.join("paper_truth_calibration.toml");
     let cal_dir = args.dir.join("calibration");
     child(&["simulate", &p(&cal_exp), "--out", &p(&cal_dir)])?;
-    let cal = cal_dir.join("cal1.parquet");
+    let cal = cal_dir.join("truth_cal1.parquet");
     let params_out = args.dir.join("cal1_42.toml");
     let m = child(&[
         "calibrate",
@@ -117,6 +128,32 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
         "calibrate 4.2 h / 200 Hz with the 42-state filter (Parquet decode + alignment + filter, 1 s updates, history and .rrd): {:.2} s wall, peak RSS {:.0} MB",
         m.wall_s, m.peak_rss_mb
     );
+
+    let mut diag = vec!["diagnose".to_string()];
+    for (name, file) in [
+        ("cal", cal.clone()),
+        ("nav1", dataset.clone()),
+        ("nav2", args.dir.join("nav2.parquet")),
+        ("nav3", args.dir.join("nav3.parquet")),
+    ] {
+        diag.push("--dataset".into());
+        diag.push(format!("{name}={}", p(&file)));
+    }
+    for a in [
+        "--params".to_string(),
+        p(&params_out),
+        "--out".into(),
+        p(&args.dir.join("diagnosis")),
+    ] {
+        diag.push(a);
+    }
+    let refs: Vec<&str> = diag.iter().map(String::as_str).collect();
+    let m = child(&refs)?;
+    println!(
+        "diagnose one set (4.2 h calibration run + three 15 h navigation runs: Parquet, replays, sensitivities, twin, fits, validation, report): {:.1} s wall, peak RSS {:.0} MB",
+        m.wall_s, m.peak_rss_mb
+    );
+    print!("{}", indent(&m.stdout));
 
     let m = child(&["report", "--reports-dir", &p(&args.dir.join("reports"))])?;
     println!(

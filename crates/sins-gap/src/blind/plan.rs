@@ -44,7 +44,7 @@ impl CaseAnswer {
         if let EffectSpec::GyroBiasRandomWalk { seed, .. }
         | EffectSpec::AccelBiasRandomWalk { seed, .. } = &mut spec
         {
-            *seed = self.seed ^ 0x5eed_0f_b11d;
+            *seed = self.seed ^ 0x005e_ed0f_b11d;
         }
         Some(spec)
     }
