@@ -275,7 +275,15 @@ fn differences(md: &mut String, run: &ReportRun) {
          which add error with and without temperature compensation alike; that is why absolute \
          errors here can differ from Table 5 while the improvement is the figure to compare. The \
          truth IMU was not tuned to match the paper's percentages. `sinsbench diagnose` looks for \
-         such unmodelled effects in real data.\n",
+         such unmodelled effects in real data.\n\n\
+         Where an error grows mostly during a vibration pattern, the cause is rectification: \
+         Table 4's patterns rotate the IMU at up to 630 deg/s about axes whose frequencies are \
+         harmonics of each other (pattern 3: 5 Hz about x, 10 Hz about y), so gyro scale-factor \
+         and misalignment errors of a few ppm or arcseconds integrate into a steady drift of \
+         tenths of a degree per hour. A parameter set calibrated without temperature terms during \
+         a temperature ramp absorbs the accelerometers' temperature drift partly into exactly \
+         these gyro coefficients (compare the two sets' coefficients above), which the vibration \
+         then turns into position error.\n",
         if all_better {
             "Temperature compensation lowers the maximum horizontal error in every experiment."
         } else {
