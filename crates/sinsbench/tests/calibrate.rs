@@ -2,34 +2,16 @@
 //! Rerun recording are written and readable, and the estimates are close to the truth.
 
 mod common;
-use common::{csv_without_temperatures, exe, experiments, verify_rrd};
+use common::{
+    csv_without_temperatures, exe, short_calibration_experiment, simulate_into, verify_rrd,
+};
 
 #[test]
 fn calibrate_writes_params_history_and_a_readable_rrd() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let exp_dir = experiments();
-    // The paper's calibration with one pass of the 18-step scheme (1.3 h instead of 4.2 h).
-    let text = std::fs::read_to_string(exp_dir.join("paper_calibration.toml"))
-        .unwrap()
-        .replace("\"imu/", &format!("\"{}/imu/", exp_dir.display()))
-        .replace("\"schemes/", &format!("\"{}/schemes/", exp_dir.display()))
-        .replace("total_s = 13920.0", "total_s = 3480.0")
-        .replace("repeat = 4", "repeat = 1")
-        .replace("duration_s = 15120.0", "duration_s = 4680.0");
-    let exp = dir.path().join("short_cal.toml");
-    std::fs::write(&exp, text).unwrap();
+    let exp = short_calibration_experiment(dir.path());
     let out = dir.path().join("data");
-    let o = exe()
-        .args([
-            "simulate",
-            &exp.display().to_string(),
-            "--out",
-            &out.display().to_string(),
-            "--quiet",
-        ])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    simulate_into(&exp, &out);
     let params = dir.path().join("cal.toml");
     let o = exe()
         .args([

@@ -2,7 +2,10 @@
 //! Table 5, the gate's three outcomes, bad input and the atomic report directory.
 
 mod common;
-use common::{csv_without_temperatures, exe, experiments, verify_rrd};
+use common::{
+    csv_without_temperatures, exe, experiments, short_calibration_experiment, simulate_into,
+    verify_rrd,
+};
 use std::path::Path;
 
 fn run(args: &[&str]) -> std::process::Output {
@@ -220,4 +223,48 @@ fn malformed_config_and_params_name_the_key() {
         err.contains("p.toml") && err.contains("TB_w_ug_per_degc"),
         "{err}"
     );
+}
+
+/// A report on the user's own files: a dataset and two parameter files (the truth and an ideal
+/// IMU). Compensating with the truth must beat not compensating at all.
+#[test]
+fn report_on_own_datasets_and_parameter_files() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let exp = short_calibration_experiment(dir.path());
+    simulate_into(&exp, &dir.path().join("data"));
+    let imu = experiments().join("imu");
+    let config = dir.path().join("own.toml");
+    std::fs::write(
+        &config,
+        format!(
+            "schema = 1\nname = \"own\"\n\
+             [[parameter_set]]\nkey = \"none\"\nfile = \"{}\"\n\
+             [[parameter_set]]\nkey = \"truth\"\nfile = \"{}\"\n\
+             [navigation]\ndataset = [{{ name = \"cal\", path = \"data/cal1.parquet\" }}]\n\
+             [comparison]\nbaseline = \"none\"\ncompensated = \"truth\"\n",
+            imu.join("ideal.toml").display(),
+            imu.join("paper_table1.toml").display()
+        ),
+    )
+    .unwrap();
+    let reports = dir.path().join("reports");
+    let o = run(&[
+        "report",
+        "--config",
+        &s(&config),
+        "--reports-dir",
+        &s(&reports),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary = sins_harness::summary::Summary::from_json_file(&reports.join("own/summary.json"))
+        .expect("summary");
+    let e = &summary.experiments[0];
+    let none = e.results["none"].max_horizontal_m;
+    let truth = e.results["truth"].max_horizontal_m;
+    assert!(
+        truth < 0.2 * none,
+        "truth {truth} m vs uncompensated {none} m"
+    );
+    assert!(e.improvement_percent.unwrap() > 50.0);
+    verify_rrd(&reports.join("own/cal.rrd"));
 }

@@ -53,3 +53,34 @@ pub fn csv_without_temperatures(path: &Path, n: usize) {
     }
     std::fs::write(path, text).expect("write csv");
 }
+
+/// The paper's calibration experiment with one pass of the 18-step scheme (1.3 h instead of
+/// 4.2 h), written into `dir`; returns its path.
+pub fn short_calibration_experiment(dir: &Path) -> PathBuf {
+    let exp_dir = experiments();
+    let text = std::fs::read_to_string(exp_dir.join("paper_calibration.toml"))
+        .unwrap()
+        .replace("\"imu/", &format!("\"{}/imu/", exp_dir.display()))
+        .replace("\"schemes/", &format!("\"{}/schemes/", exp_dir.display()))
+        .replace("total_s = 13920.0", "total_s = 3480.0")
+        .replace("repeat = 4", "repeat = 1")
+        .replace("duration_s = 15120.0", "duration_s = 4680.0");
+    let exp = dir.join("short_cal.toml");
+    std::fs::write(&exp, text).unwrap();
+    exp
+}
+
+/// Simulate `experiment` into `out` (asserting success).
+pub fn simulate_into(experiment: &Path, out: &Path) {
+    let o = exe()
+        .args([
+            "simulate",
+            &experiment.display().to_string(),
+            "--out",
+            &out.display().to_string(),
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
