@@ -7,6 +7,26 @@ use crate::report::{CandidateModel, CandidateReport, ChiSquareTest, ComponentEst
 use crate::stats::chi2_sf;
 use sins_imu::EffectKind;
 
+/// Standard deviation of the plausibility prior on a candidate's magnitude, in multiples of the
+/// kind's typical navigation-grade magnitude (`EffectKind::typical_magnitude`): a fit a hundred
+/// times larger than typical costs one unit of chi-square, a thousand times larger a hundred.
+/// It separates look-alike signatures by physical plausibility (a g-sensitivity of several
+/// deg/h/g mimicking a temperature-rate term) and never makes a candidate pass.
+pub const PRIOR_TIMES_TYPICAL: f64 = 100.0;
+
+/// The plausibility penalty of a report's retained components.
+fn plausibility_penalty(kind: EffectKind, components: &[ComponentEstimate]) -> f64 {
+    let sd = PRIOR_TIMES_TYPICAL * kind.typical_magnitude();
+    if sd <= 0.0 {
+        return 0.0;
+    }
+    components
+        .iter()
+        .filter(|c| c.retained)
+        .map(|c| (c.value / sd).powi(2))
+        .sum()
+}
+
 /// Where a deterministic candidate's columns sit in the fit data.
 #[derive(Clone, Copy, Debug)]
 pub struct Layout {
@@ -119,6 +139,8 @@ pub fn evaluate(
                 dof: k,
                 p_value,
                 delta_bic,
+                plausibility_penalty: 0.0,
+                evidence: 0.0,
                 passes: p_value < cfg.alpha && delta_bic > 0.0,
                 residual: null.test(chi0 - dchi2, k, cfg.null_alpha),
             },
@@ -161,17 +183,31 @@ pub fn evaluate(
                 dof: 1,
                 p_value,
                 delta_bic,
+                plausibility_penalty: 0.0,
+                evidence: 0.0,
                 passes: p_value < cfg.alpha && delta_bic > 0.0,
                 residual: null.test(f.residual_chi2, 1, cfg.null_alpha),
             },
             regression: None,
         });
     }
+    // Quasi-likelihood: the best residual's chi-square over its expectation (at least 1).
+    let inflation = out
+        .iter()
+        .map(|e| e.report.residual.chi2 / e.report.residual.dof.max(1.0))
+        .fold(f64::INFINITY, f64::min)
+        .max(1.0);
+    for e in &mut out {
+        let r = &mut e.report;
+        r.plausibility_penalty = plausibility_penalty(e.kind, &r.components);
+        r.evidence = r.dchi2 / inflation - r.dof as f64 * n.ln() - r.plausibility_penalty;
+        r.passes &= r.evidence > 0.0;
+    }
     out.sort_by(|a, b| {
         b.report
             .passes
             .cmp(&a.report.passes)
-            .then(b.report.delta_bic.total_cmp(&a.report.delta_bic))
+            .then(b.report.evidence.total_cmp(&a.report.evidence))
     });
     out
 }
@@ -207,7 +243,7 @@ pub fn verdict(
         };
     };
     if let Some(second) = passing.get(1) {
-        let close = best.report.dchi2 - second.report.dchi2 < cfg.separability_dchi2;
+        let close = best.report.evidence - second.report.evidence < cfg.separability_dchi2;
         let alike = match (&best.regression, &second.regression) {
             (Some(a), Some(b)) => explained(p, a, b).max(explained(p, b, a)) > cfg.separability_r2,
             _ => true,

@@ -64,7 +64,17 @@ pub struct CandidateReport {
     pub p_value: f64,
     /// Bayesian information criterion improvement `dchi2 - dof ln n` (positive favours it).
     pub delta_bic: f64,
-    /// Passes the significance level and has a positive BIC improvement.
+    /// Penalty of physically implausible magnitudes: `Σ (value / (K · typical))²` over the
+    /// retained components, K = [`crate::rank::PRIOR_TIMES_TYPICAL`] (a Gaussian prior with a
+    /// standard deviation of K times the kind's typical navigation-grade magnitude).
+    #[serde(default)]
+    pub plausibility_penalty: f64,
+    /// The ranking figure: `Δχ² / r − k ln n − penalty`, where `r ≥ 1` is the best candidate's
+    /// residual chi-square over its expectation (quasi-likelihood: when even the best model
+    /// leaves an inconsistent residual, the misfit inflates every Δχ² by about `r`).
+    #[serde(default)]
+    pub evidence: f64,
+    /// Passes the significance level and has positive BIC improvement and evidence.
     pub passes: bool,
     /// Consistency of what is left once this candidate is added.
     pub residual: ChiSquareTest,
