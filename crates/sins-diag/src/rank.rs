@@ -168,7 +168,10 @@ pub fn evaluate(
                 value: unit.from_si(w.intensity),
                 sigma: Some(unit.from_si(w.sigma)),
                 retained: a == best && dchi2 > 0.0,
-                detectable: None,
+                // The likelihood's one-sigma of the intensity, taken as the resolution of the
+                // test near zero (an approximation: the intensity is a variance parameter).
+                detectable: (w.sigma.is_finite() && w.sigma > 0.0)
+                    .then(|| unit.from_si(detectable(w.sigma, p_single))),
             })
             .collect();
         out.push(Evaluated {

@@ -38,7 +38,8 @@ pub struct ComponentEstimate {
     /// Kept in the final model of this candidate.
     pub retained: bool,
     /// Magnitude detected with 90 % probability at the configured significance when this
-    /// component is the only effect (unit; `None` for noise terms and unidentifiable ones).
+    /// component is the only effect (unit; `None` for unidentifiable ones; for noise terms the
+    /// likelihood's one-sigma of the intensity stands in for the resolution near zero).
     pub detectable: Option<f64>,
 }
 
