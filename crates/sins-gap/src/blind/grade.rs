@@ -25,7 +25,7 @@ pub struct CaseGrade {
     pub fitted: Option<(f64, f64)>,
     /// The fit is within 3 sigma of the hidden magnitude.
     pub within_3_sigma: Option<bool>,
-    /// RMS gap shrinkage on withheld runs for the identified kind (%).
+    /// RMS gap shrinkage on withheld runs when the hidden kind was identified (%).
     pub shrinkage_percent: Option<f64>,
 }
 
@@ -42,7 +42,7 @@ pub struct Grades {
     pub out_of_catalogue_unexplained: (usize, usize),
     /// Identified cases with the fit within 3 sigma / identified cases with a sigma.
     pub magnitudes_within_3_sigma: (usize, usize),
-    /// Median RMS gap shrinkage on withheld runs over the identified cases (%).
+    /// Median RMS gap shrinkage on withheld runs over the correctly identified cases (%).
     pub median_shrinkage_percent: Option<f64>,
     /// Rows: hidden kind (`none` for null cases); columns: outcome; counts.
     pub confusion: BTreeMap<String, BTreeMap<String, usize>>,
@@ -98,10 +98,12 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
         let within_3_sigma = fitted
             .zip(hidden)
             .map(|((v, s), h)| (v - h.magnitude).abs() <= 3.0 * s);
+        // Shrinkage counts where the diagnosis named the hidden effect (what was added to the
+        // model is then the effect that is really there).
         let shrink: Vec<f64> = d
             .validation
             .iter()
-            .filter(|v| identified.as_deref() == Some(v.kind.as_str()))
+            .filter(|v| right && identified.as_deref() == Some(v.kind.as_str()))
             .map(|v| v.rms_shrinkage_percent)
             .collect();
         out.push(CaseGrade {
@@ -273,4 +275,156 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
         );
     }
     md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::blind::plan::HiddenEffect;
+    use sins_diag::report::{
+        CandidateModel, CandidateReport, ChiSquareTest, ComponentEstimate, GapMetrics,
+        ValidationReport,
+    };
+
+    fn test(consistent: bool) -> ChiSquareTest {
+        ChiSquareTest {
+            chi2: 100.0,
+            dof: 100.0,
+            p_value: if consistent { 0.5 } else { 1e-9 },
+            consistent,
+        }
+    }
+
+    fn diagnosis(verdict: Verdict, candidate: Option<(&str, f64, f64, f64)>) -> Diagnosis {
+        let candidates = candidate
+            .map(|(kind, value, sigma, detectable)| CandidateReport {
+                kind: kind.into(),
+                description: String::new(),
+                unit: "u".into(),
+                model: CandidateModel::Regression,
+                components: vec![ComponentEstimate {
+                    label: "x".into(),
+                    value,
+                    sigma: Some(sigma),
+                    retained: true,
+                    detectable: Some(detectable),
+                }],
+                dchi2: 50.0,
+                dof: 1,
+                p_value: 1e-6,
+                delta_bic: 40.0,
+                plausibility_penalty: 0.0,
+                evidence: 40.0,
+                passes: true,
+                residual: test(true),
+            })
+            .into_iter()
+            .collect();
+        let validation = candidate
+            .map(|(kind, ..)| ValidationReport {
+                kind: kind.into(),
+                informative: true,
+                fitted_on: "a".into(),
+                evaluated_on: "b".into(),
+                magnitudes: vec![],
+                before: GapMetrics {
+                    max_horizontal_gap_m: 100.0,
+                    rms_gap_m: 50.0,
+                },
+                after: GapMetrics {
+                    max_horizontal_gap_m: 10.0,
+                    rms_gap_m: 5.0,
+                },
+                rms_shrinkage_percent: 90.0,
+                max_shrinkage_percent: 90.0,
+            })
+            .into_iter()
+            .collect();
+        Diagnosis {
+            n_data: 100,
+            null_test: test(candidate.is_none()),
+            candidates,
+            verdict,
+            localisation: vec![],
+            validation,
+            series: vec![],
+            notes: vec![],
+        }
+    }
+
+    fn answer(case: &str, kind: Option<(&str, bool, f64)>) -> CaseAnswer {
+        CaseAnswer {
+            case: case.into(),
+            seed: 1,
+            hidden: kind.map(|(k, inside, magnitude)| HiddenEffect {
+                kind: k.into(),
+                in_catalogue: inside,
+                component: 0,
+                component_label: "x".into(),
+                magnitude,
+                unit: "u".into(),
+                times_typical: 5.0,
+            }),
+        }
+    }
+
+    #[test]
+    fn grades_count_hits_alarms_outside_cases_and_magnitudes() {
+        let explained = |by: &str| Verdict::Explained { by: by.into() };
+        let cases = vec![
+            // hit, fitted 2.1 ± 0.1 for a hidden 2.0: within 3 sigma
+            (
+                answer("c1", Some(("gyro_bias_temp", true, 2.0))),
+                diagnosis(
+                    explained("gyro_bias_temp"),
+                    Some(("gyro_bias_temp", 2.1, 0.1, 0.5)),
+                ),
+            ),
+            // wrong kind named: a miss (the hidden kind is above its detectable level 0.5)
+            (
+                answer("c2", Some(("size_effect", true, 3.0))),
+                diagnosis(
+                    explained("gyro_bias_temp"),
+                    Some(("size_effect", 0.2, 0.1, 0.5)),
+                ),
+            ),
+            // below the detectable level: not scored
+            (
+                answer("c3", Some(("size_effect", true, 0.1))),
+                diagnosis(
+                    Verdict::NoSignificantGap,
+                    Some(("size_effect", 0.0, 0.1, 0.5)),
+                ),
+            ),
+            // null cases: one quiet, one false alarm
+            (
+                answer("c4", None),
+                diagnosis(Verdict::NoSignificantGap, None),
+            ),
+            (
+                answer("c5", None),
+                diagnosis(
+                    explained("gyro_bias_temp"),
+                    Some(("gyro_bias_temp", 1.0, 0.1, 0.5)),
+                ),
+            ),
+            // outside the catalogue, reported unexplained
+            (
+                answer("c6", Some(("accel_bias_step", false, 20.0))),
+                diagnosis(Verdict::Unexplained, None),
+            ),
+        ];
+        let g = grade(&cases);
+        assert_eq!(g.top1, (1, 2));
+        assert_eq!(g.false_alarms, (1, 2));
+        assert_eq!(g.out_of_catalogue_unexplained, (1, 1));
+        assert_eq!(g.magnitudes_within_3_sigma, (1, 1));
+        assert_eq!(g.median_shrinkage_percent, Some(90.0));
+        assert_eq!(g.confusion["none"]["gyro_bias_temp"], 1);
+        assert_eq!(g.confusion["size_effect"]["none"], 1);
+        let md = render_grades(&g, "abc");
+        assert!(md.contains(
+            "| top-1 identification, in-catalogue cases above the detectable level | 1 / 2 (50 %) |"
+        ));
+    }
 }
