@@ -1,15 +1,16 @@
 //! The real error track of a run: replay its samples with the calibrated parameter set exactly
-//! as `sinsbench navigate` does (self-alignment, reconstruction, vertical channel held), and
+//! as `sinsbench navigate` does (the replay is built by `sins_harness::replay_setup::build_replay`) (self-alignment, reconstruction, vertical channel held), and
 //! collect the per-second temperature means in the same pass.
 
 use crate::error::DiagError;
 use crate::source::SampleSource;
 use crate::temperature::TemperatureSeries;
-use sins_imu::{Compensator, ImuErrorParams};
+use sins_harness::replay_setup::{ReplayOptions, StartMode, VerticalMode, build_replay};
+use sins_imu::ImuErrorParams;
 use sins_nav::alignment::AlignmentConfig;
 use sins_nav::reconstruct::ReconstructConfig;
 use sins_nav::{ConingOrder, Geodetic, StrapdownConfig, VerticalChannel};
-use sins_replay::{ErrorPoint, Replay, ReplayConfig, ReplaySummary, Start};
+use sins_replay::{ErrorPoint, ReplaySummary};
 
 /// How the real pipeline replays a run (must match the replay that produced a given track).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -69,14 +70,15 @@ pub fn replay_run(
 ) -> Result<RealTrack, DiagError> {
     let h = source.sample_interval_s();
     let t0 = source.start_time_s();
-    let comp = Compensator::new(*params)
-        .ok_or_else(|| DiagError::input(run, "parameter set is singular (I + E not invertible)"))?;
-    let config = ReplayConfig {
-        nav: setup.strapdown(h, site),
-        start: Start::SelfAlign(setup.alignment),
+    let options = ReplayOptions {
+        coning: setup.coning,
+        vertical: VerticalMode::Hold,
+        start: StartMode::Align(setup.alignment),
+        reconstruct: setup.reconstruct,
         output_interval_s: 1.0,
     };
-    let mut replay = Replay::new(config, comp, *site, t0).with_reconstruction(setup.reconstruct);
+    let mut replay = build_replay(run, params, *site, h, t0, &options)
+        .map_err(|e| DiagError::input(run, e.to_string()))?;
     let mut temps = TemperatureSeries::new(t0);
     source.visit(&mut |samples, segments| {
         for (s, &g) in samples.iter().zip(segments) {

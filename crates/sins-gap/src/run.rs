@@ -8,7 +8,8 @@ use sins_diag::input::{DiagnoseConfig, DiagnosisInput, RunData};
 use sins_diag::noise::NoiseSpec;
 use sins_diag::replay::replay_run;
 use sins_diag::report::Diagnosis;
-use sins_imu::{ImuErrorParams, ParamModel};
+use sins_harness::pipeline::NamedParams;
+use sins_imu::ImuErrorParams;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -70,13 +71,11 @@ pub fn diagnose_datasets(req: &DiagnoseRequest) -> Result<DiagnosisOutcome, GapE
     for (name, path) in &req.datasets {
         let mut source = DatasetSource::open(path, name)?;
         let info = source.info().clone();
-        if req.params.model == ParamModel::States42 && !info.has_temperature {
-            return Err(GapError::Invalid(format!(
-                "{}: the dataset has no accelerometer temperature columns (temp_ax_degc, temp_ay_degc, \
-                 temp_az_degc), but the parameter set is a 42-state set with temperature coefficients",
-                path.display()
-            )));
-        }
+        let set = NamedParams {
+            key: "calibrated".into(),
+            params: req.params,
+        };
+        sins_report::require_temperatures(path, &info, &[set])?;
         let site = info.meta.site;
         let real = replay_run(name, &mut source, &req.params, &site, &req.config.replay)?;
         let max_horizontal_m = real.summary.as_ref().map_or(0.0, |s| s.max_horizontal_m);

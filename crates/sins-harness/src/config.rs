@@ -259,7 +259,10 @@ pub fn load_report_config(path: &Path) -> Result<ReportConfig, HarnessError> {
         if !(s.is_finite() && s > 0.0) {
             return Err(bad(format!("replay.alignment_s = {s} must be > 0")));
         }
-        replay.start = StartMode::Align { duration_s: s };
+        replay.start = StartMode::Align(sins_nav::AlignmentConfig {
+            duration_s: s,
+            ..sins_nav::AlignmentConfig::default()
+        });
     }
     Ok(ReportConfig {
         name: f.name,

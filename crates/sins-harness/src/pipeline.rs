@@ -90,7 +90,7 @@ impl MultiReplay {
         let replays = sets
             .iter()
             .map(|s| {
-                build_replay(&s.key, &s.params, site, sample_interval_s, options)
+                build_replay(&s.key, &s.params, site, sample_interval_s, 0.0, options)
                     .map(|r| (s.key.clone(), r))
             })
             .collect::<Result<Vec<_>, _>>()?;

@@ -25,11 +25,8 @@ pub enum VerticalMode {
 /// How navigation starts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum StartMode {
-    /// Stationary self-alignment over the first `duration_s` seconds (the paper: 1200 s).
-    Align {
-        /// Alignment time (s).
-        duration_s: f64,
-    },
+    /// Stationary self-alignment (the paper: 1200 s, coarse then fine).
+    Align(AlignmentConfig),
     /// A known state at rest at the start of the data (e.g. a simulator's truth).
     Known(NavState),
 }
@@ -43,8 +40,9 @@ pub struct ReplayOptions {
     pub vertical: VerticalMode,
     /// Start mode.
     pub start: StartMode,
-    /// Worker threads of the reconstruction (results do not depend on it).
-    pub threads: usize,
+    /// Settings of the reconstruction used with `ConingOrder::Reconstruct` (its worker
+    /// threads do not change the results).
+    pub reconstruct: ReconstructConfig,
     /// Interval of the error output (s).
     pub output_interval_s: f64,
 }
@@ -55,20 +53,23 @@ impl Default for ReplayOptions {
         Self {
             coning: ConingOrder::Reconstruct,
             vertical: VerticalMode::Hold,
-            start: StartMode::Align { duration_s: 1200.0 },
-            threads: 2,
+            start: StartMode::Align(AlignmentConfig::default()),
+            reconstruct: ReconstructConfig::default(),
             output_interval_s: 1.0,
         }
     }
 }
 
-/// A replay of samples taken every `sample_interval_s` at `site`, compensated with `params`
-/// (named `set` in errors).
+/// A replay of samples taken every `sample_interval_s` from `start_time_s` (the start of the
+/// first sample interval) at `site`, compensated with `params` (named `set` in errors). The one
+/// place where a replay is put together: `navigate`, `report` and the diagnosis's real tracks
+/// all come from here.
 pub fn build_replay(
     set: &str,
     params: &ImuErrorParams,
     site: Geodetic,
     sample_interval_s: f64,
+    start_time_s: f64,
     options: &ReplayOptions,
 ) -> Result<Replay, HarnessError> {
     let compensator = Compensator::new(*params).ok_or_else(|| HarnessError::SingularParams {
@@ -85,10 +86,7 @@ pub fn build_replay(
         VerticalMode::Free => VerticalChannel::Free,
     };
     let start = match options.start {
-        StartMode::Align { duration_s } => Start::SelfAlign(AlignmentConfig {
-            duration_s,
-            ..AlignmentConfig::default()
-        }),
+        StartMode::Align(alignment) => Start::SelfAlign(alignment),
         StartMode::Known(state) => Start::Known(state),
     };
     let config = ReplayConfig {
@@ -100,9 +98,6 @@ pub fn build_replay(
         start,
         output_interval_s: options.output_interval_s,
     };
-    let recon = ReconstructConfig {
-        threads: options.threads.max(1),
-        ..ReconstructConfig::default()
-    };
-    Ok(Replay::new(config, compensator, site, 0.0).with_reconstruction(recon))
+    Ok(Replay::new(config, compensator, site, start_time_s)
+        .with_reconstruction(options.reconstruct))
 }

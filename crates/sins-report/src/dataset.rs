@@ -43,6 +43,24 @@ fn ref_point(t_s: f64, r: &ReferenceRow, site: &Geodetic) -> RefPoint {
     }
 }
 
+/// Refuse a dataset without the accelerometer temperature columns when any of `sets` is a
+/// 42-state set (its temperature terms need them), naming the file and the set.
+pub fn require_temperatures(
+    path: &Path,
+    info: &sins_data::DatasetInfo,
+    sets: &[NamedParams],
+) -> Result<(), ReportError> {
+    match sets.iter().find(|s| s.params.model == ParamModel::States42) {
+        Some(s) if !info.has_temperature => Err(ReportError::Mismatch(format!(
+            "{}: the dataset has no accelerometer temperature columns (temp_ax_degc, temp_ay_degc, temp_az_degc), \
+             but parameter set '{}' is a 42-state set with temperature coefficients",
+            path.display(),
+            s.key
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// Replay the dataset at `path` (named `name` in results) under every set of `sets`.
 pub fn replay_dataset(
     name: &str,
@@ -53,16 +71,7 @@ pub fn replay_dataset(
 ) -> Result<RunOutcome, ReportError> {
     let mut reader = DatasetReader::open(path)?;
     let info = reader.info().clone();
-    if !info.has_temperature
-        && let Some(s) = sets.iter().find(|s| s.params.model == ParamModel::States42)
-    {
-        return Err(ReportError::Mismatch(format!(
-            "{}: the dataset has no accelerometer temperature columns (temp_ax_degc, temp_ay_degc, temp_az_degc), \
-             but parameter set '{}' is a 42-state set with temperature coefficients",
-            path.display(),
-            s.key
-        )));
-    }
+    require_temperatures(path, &info, sets)?;
     let site = info.meta.site;
     let mut multi = MultiReplay::new(
         name,

@@ -19,7 +19,7 @@ mod run;
 mod simulate;
 mod tracks;
 
-pub use dataset::replay_dataset;
+pub use dataset::{replay_dataset, require_temperatures};
 pub use error::ReportError;
 pub use markdown::render_markdown;
 pub use output::{ReportFiles, write_dir_atomically, write_report};

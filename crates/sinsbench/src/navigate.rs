@@ -122,16 +122,20 @@ pub fn replay(args: &Args, quiet: bool) -> Result<(DatasetInfo, Vec<ErrorPoint>,
             Vertical::Free => VerticalMode::Free,
         },
         start: match args.start {
-            StartMode::Align => HarnessStart::Align {
+            StartMode::Align => HarnessStart::Align(sins_nav::AlignmentConfig {
                 duration_s: args.align_s,
-            },
+                ..sins_nav::AlignmentConfig::default()
+            }),
             StartMode::Truth => HarnessStart::Known(NavState::at_rest(
                 0.0,
                 ned_from_body_euler(&initial_attitude(&info)?),
                 info.meta.site,
             )),
         },
-        threads: args.threads as usize,
+        reconstruct: sins_nav::reconstruct::ReconstructConfig {
+            threads: args.threads as usize,
+            ..Default::default()
+        },
         output_interval_s: 1.0,
     };
     let set = NamedParams {
