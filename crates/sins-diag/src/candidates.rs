@@ -44,8 +44,28 @@ pub fn fit_regression(p: &Problem, first: usize, n: usize, z_keep: f64) -> Regre
     // worth at least `z_keep²` (a |z| of `z_keep` for the added component); components with no
     // signal at all cannot be fitted.
     let usable: Vec<usize> = (0..n).filter(|&k| sigma_alone[k].is_finite()).collect();
-    let mut retained: Vec<usize> = Vec::new();
-    let mut current: Option<Fit> = None;
+    let (retained, current) = forward_select(p, first, &usable, Vec::new(), z_keep * z_keep);
+    let fit = current.unwrap_or_else(|| p.gls.fit(&select(&p.a, first, &[])));
+    RegressionFit {
+        retained,
+        fit,
+        sigma_alone,
+    }
+}
+
+/// Forward selection among `usable` components of the candidate at `first`, starting from
+/// `retained`: add the component that lowers the chi-square most while it lowers it by at least
+/// `min_gain` (the first component of an empty start is always added). Returns the components
+/// and the fit of all of them (`None` when there is none).
+pub fn forward_select(
+    p: &Problem,
+    first: usize,
+    usable: &[usize],
+    mut retained: Vec<usize>,
+    min_gain: f64,
+) -> (Vec<usize>, Option<Fit>) {
+    let mut current: Option<Fit> =
+        (!retained.is_empty()).then(|| p.gls.fit(&select(&p.a, first, &retained)));
     loop {
         let best = usable
             .iter()
@@ -59,18 +79,13 @@ pub fn fit_regression(p: &Problem, first: usize, n: usize, z_keep: f64) -> Regre
             .max_by(|a, b| a.1.dchi2.total_cmp(&b.1.dchi2));
         let Some((k, fit)) = best else { break };
         let gain = fit.dchi2 - current.as_ref().map_or(0.0, |f| f.dchi2);
-        if current.is_some() && gain < z_keep * z_keep {
+        if current.is_some() && gain < min_gain {
             break;
         }
         retained.push(k);
         current = Some(fit);
     }
-    let fit = current.unwrap_or_else(|| p.gls.fit(&select(&p.a, first, &[])));
-    RegressionFit {
-        retained,
-        fit,
-        sigma_alone,
-    }
+    (retained, current)
 }
 
 /// Columns `first + k` for `k` in `which`.

@@ -8,11 +8,16 @@ use crate::input::{DiagnoseConfig, DiagnosisInput, RunData};
 use crate::localise::{GapSeries, localise};
 use crate::pass::Grid;
 use crate::problem::{Problem, RunFitData, run_fit_data};
-use crate::rank::{Evaluated, Layout, NullDist, evaluate, verdict};
+use crate::rank::{
+    Evaluated, Layout, NullDist, TestContext, evaluate, finish_ranking, regression_evaluated, verdict,
+};
+use crate::refine::{Refinement, refine};
+use crate::noise::NoiseSpec;
+use sins_imu::ImuErrorParams;
 use crate::replay::temperature_series;
 use crate::report::{Diagnosis, RunSeries};
 use crate::sensitivity::{ColumnId, RunSensitivity, SensitivitySetup, run_sensitivity};
-use crate::validate::{OutputColumns, Winner, validate};
+use crate::validate::{EvalRun, OutputColumns, Winner, validate};
 use sins_imu::{EffectKind, Linearity};
 use sins_replay::ErrorPoint;
 
@@ -33,50 +38,19 @@ pub fn track_at(points: &[ErrorPoint], t_s: f64) -> [f64; 2] {
     }
 }
 
-/// Sensitivities of every run, `threads` at a time (results collected by run index).
-fn sensitivities(
-    input: &mut DiagnosisInput,
-    cfg: &DiagnoseConfig,
-    kinds: &[EffectKind],
-    refine: Option<(EffectKind, Vec<f64>)>,
-) -> Result<Vec<RunSensitivity>, DiagError> {
-    let grid = Grid {
-        output_every_s: cfg.output_interval_s.max(1),
-        fit_every: (cfg.fit_interval_s / cfg.output_interval_s.max(1)).max(1),
-    };
-    let setup = SensitivitySetup {
-        params: &input.params,
-        noise: &input.noise,
-        replay: &cfg.replay,
-        candidates: kinds,
-        grid,
-        refine,
-    };
-    let one = |r: &mut RunData| -> Result<RunSensitivity, DiagError> {
-        let temps = match r.temperatures.take() {
-            Some(t) => t,
-            None => {
-                temperature_series(r.source.as_mut(), cfg.replay.temperature_rate_half_window_s)?
-            }
-        };
-        let out = run_sensitivity(
-            &r.name,
-            r.source.as_mut(),
-            &r.site,
-            &r.track,
-            &temps,
-            &setup,
-        );
-        r.temperatures = Some(temps);
-        out
-    };
-    let threads = cfg.threads.max(1);
-    let mut results: Vec<Option<Result<RunSensitivity, DiagError>>> =
-        (0..input.runs.len()).map(|_| None).collect();
-    let runs = &mut input.runs;
+/// `f` on every run, `threads` runs at a time; results in run order (identical for any
+/// thread count: each run is processed alone).
+pub fn par_runs<T: Send>(
+    runs: &mut [RunData],
+    threads: usize,
+    f: impl Fn(&mut RunData) -> Result<T, DiagError> + Sync,
+) -> Result<Vec<T>, DiagError> {
+    let threads = threads.max(1);
+    let mut results: Vec<Option<Result<T, DiagError>>> = (0..runs.len()).map(|_| None).collect();
     for (chunk_runs, chunk_out) in runs.chunks_mut(threads).zip(results.chunks_mut(threads)) {
         std::thread::scope(|s| {
-            let handles: Vec<_> = chunk_runs.iter_mut().map(|r| s.spawn(|| one(r))).collect();
+            let f = &f;
+            let handles: Vec<_> = chunk_runs.iter_mut().map(|r| s.spawn(move || f(r))).collect();
             for (h, o) in handles.into_iter().zip(chunk_out.iter_mut()) {
                 *o = Some(h.join().unwrap_or_else(|_| {
                     Err(DiagError::Numerical("a worker thread panicked".into()))
@@ -88,6 +62,49 @@ fn sensitivities(
         .into_iter()
         .map(|r| r.unwrap_or_else(|| Err(DiagError::Numerical("run not processed".into()))))
         .collect()
+}
+
+/// The settings of the base sensitivity pass.
+fn base_setup<'a>(
+    params: &'a ImuErrorParams,
+    noise: &'a NoiseSpec,
+    cfg: &'a DiagnoseConfig,
+    kinds: &'a [EffectKind],
+) -> SensitivitySetup<'a> {
+    SensitivitySetup {
+        params,
+        noise,
+        replay: &cfg.replay,
+        candidates: kinds,
+        grid: Grid {
+            output_every_s: cfg.output_interval_s.max(1),
+            fit_every: (cfg.fit_interval_s / cfg.output_interval_s.max(1)).max(1),
+        },
+        refine: None,
+    }
+}
+
+/// Sensitivities of every run (the temperature series are computed first when missing).
+fn sensitivities(
+    input: &mut DiagnosisInput,
+    cfg: &DiagnoseConfig,
+    kinds: &[EffectKind],
+) -> Result<Vec<RunSensitivity>, DiagError> {
+    let (params, noise) = (input.params, input.noise);
+    let setup = base_setup(&params, &noise, cfg, kinds);
+    par_runs(&mut input.runs, cfg.threads, |r| {
+        if r.temperatures.is_none() {
+            r.temperatures = Some(temperature_series(
+                r.source.as_mut(),
+                cfg.replay.temperature_rate_half_window_s,
+            )?);
+        }
+        let temps = r
+            .temperatures
+            .as_ref()
+            .ok_or_else(|| DiagError::input(&r.name, "temperature series missing"))?;
+        run_sensitivity(&r.name, r.source.as_mut(), &r.site, &r.track, temps, &setup)
+    })
 }
 
 /// Diagnose the gap between the real runs and their twin.
@@ -102,7 +119,7 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         ));
     }
     let kinds = cfg.candidate_kinds().map_err(|e| DiagError::input("", e))?;
-    let sens = sensitivities(input, cfg, &kinds, None)?;
+    let sens = sensitivities(input, cfg, &kinds)?;
     let mut notes = vec![
         "twin mean = error-free floor (zero unless given); twin spread = sensor noise (white + \
          Gauss-Markov biases, linear covariance through the alignment) + calibration one-sigma \
@@ -190,40 +207,59 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
     let dist = NullDist::from_moments(mean, var);
     let null = dist.test(problem.gls.chi2(), 0, cfg.null_alpha);
     let mut ranked = evaluate(&problem, &layouts, &walks, &dist, cfg);
-    // Refinement of a winner whose perturbation feeds its own inputs: recompute its columns
-    // with its fitted perturbation removed from the increments, and evaluate again.
-    let mut problem = problem;
-    let mut refined: Option<(Layout, Vec<RunSensitivity>)> = None;
-    if let Some((l, rf)) = ranked
-        .first()
-        .filter(|e| e.report.passes && cfg.refine_kinds().contains(&e.kind))
-        .and_then(|e| e.regression.clone())
-    {
-        let mut values = vec![0.0; l.n];
-        for (i, &c) in rf.retained.iter().enumerate() {
-            values[c] = rf.fit.theta[i] * l.kind.unit().si;
-        }
-        let sens_r = sensitivities(input, cfg, &kinds, Some((l.kind, values)))?;
-        for (fd, s) in data.iter_mut().zip(&sens_r) {
-            for c in 0..l.n {
-                if let Some(i) = s.column(ColumnId::Effect(l.kind, c)) {
-                    let si = l.kind.unit().si;
-                    for (j, &k) in s.times.fit_index.iter().enumerate() {
-                        fd.columns[(2 * j, l.first + c)] = si * s.north_m[i][k];
-                        fd.columns[(2 * j + 1, l.first + c)] = si * s.east_m[i][k];
-                    }
-                }
+    // Nonlinear refinement of the leading deterministic candidates whose linear fit leaves an
+    // inconsistent residual, and of a leading kind listed in `cfg.refine`.
+    let ctx = TestContext::new(&problem, &layouts, &walks);
+    // Candidates are taken by chi-square drop among the significant ones, not by evidence:
+    // a linear fit that an effect's nonlinearity has pushed to an implausible magnitude fails
+    // the plausibility prior before its refinement can correct it.
+    let mut by_drop: Vec<usize> = (0..ranked.len())
+        .filter(|&i| ranked[i].regression.is_some() && ranked[i].report.p_value < cfg.alpha)
+        .collect();
+    by_drop.sort_by(|&a, &b| ranked[b].report.dchi2.total_cmp(&ranked[a].report.dchi2));
+    let targets: Vec<usize> = by_drop
+        .into_iter()
+        .take(cfg.refine_top)
+        .filter(|&i| {
+            !ranked[i].report.residual.consistent || cfg.refine_kinds().contains(&ranked[i].kind)
+        })
+        .collect();
+    let mut refinements: Vec<Refinement> = Vec::new();
+    for i in targets {
+        let Some((l, rf)) = ranked[i].regression.clone() else {
+            continue;
+        };
+        let (params, noise) = (input.params, input.noise);
+        let setup = base_setup(&params, &noise, cfg, &kinds);
+        match refine(
+            input,
+            cfg,
+            &setup,
+            &data,
+            &problem,
+            l,
+            &rf,
+            ctx.chi0,
+            cfg.refine_steps,
+        ) {
+            Ok(Some(r)) => {
+                notes.push(format!(
+                    "{}: refined by {} Gauss-Newton step(s) on the runs replayed with the fitted \
+                     effect removed ({}; residual chi-square {:.1} -> {:.1})",
+                    l.kind.name(),
+                    r.steps,
+                    if r.converged { "converged" } else { "not converged" },
+                    ctx.chi0 - rf.fit.dchi2,
+                    ctx.chi0 - r.rf.fit.dchi2,
+                ));
+                ranked[i] = regression_evaluated(&l, r.rf.clone(), &ctx, &dist, cfg);
+                refinements.push(r);
             }
+            Ok(None) => {}
+            Err(e) => notes.push(format!("{}: refinement failed ({e})", l.kind.name())),
         }
-        let all: Vec<&RunFitData> = data.iter().collect();
-        problem = Problem::new(&all)?;
-        ranked = evaluate(&problem, &layouts, &walks, &dist, cfg);
-        notes.push(format!(
-            "{}: columns recomputed with the fitted effect removed from the increments",
-            l.kind.name()
-        ));
-        refined = Some((l, sens_r));
     }
+    finish_ranking(&mut ranked, ctx.n, cfg);
     let verdict = verdict(&problem, &ranked, &null, cfg);
     // Localisation.
     let schuler = (sens[0].model.earth.gravity_mps2 / sens[0].model.earth.meridian_plus_h_m).sqrt();
@@ -238,16 +274,6 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
     let winner: Option<&Evaluated> = ranked
         .first()
         .filter(|e| e.report.passes && e.regression.is_some());
-    let out_cols: Vec<OutputColumns> = match winner.and_then(|w| w.regression.as_ref()) {
-        Some((l, _)) => {
-            let from = match &refined {
-                Some((r, s)) if r.kind == l.kind => s,
-                _ => &sens,
-            };
-            from.iter().map(|s| output_columns(s, l)).collect()
-        }
-        None => Vec::new(),
-    };
     let mut validation = Vec::new();
     let mut run_series: Vec<RunSeries> = series
         .iter()
@@ -255,16 +281,36 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         .map(|(s, r)| to_series(s, &r.segment_labels))
         .collect();
     if let Some((l, rf)) = winner.and_then(|w| w.regression.as_ref()) {
-        for (rs, cols) in run_series.iter_mut().zip(&out_cols) {
-            for (i, &c) in rf.retained.iter().enumerate() {
-                let fitted = rs
-                    .fitted_north_m
-                    .iter_mut()
-                    .zip(rs.fitted_east_m.iter_mut());
-                for ((n, e), col) in fitted.zip(&cols[c]) {
-                    *n += rf.fit.theta[i] * col[0];
-                    *e += rf.fit.theta[i] * col[1];
+        let refined = refinements.iter().find(|r| r.layout.kind == l.kind);
+        let linear_cols: Vec<OutputColumns>;
+        let (fit_data, bases, cols, offset): (&[RunFitData], Vec<&[[f64; 2]]>, &[OutputColumns], Vec<f64>) =
+            match refined {
+                Some(r) => (
+                    &r.data,
+                    r.corrected_gap.iter().map(|g| g.as_slice()).collect(),
+                    &r.out_cols,
+                    r.theta_lin.clone(),
+                ),
+                None => {
+                    linear_cols = sens.iter().map(|s| output_columns(s, l)).collect();
+                    (
+                        &data,
+                        series.iter().map(|s| s.gap_m.as_slice()).collect(),
+                        &linear_cols,
+                        vec![0.0; rf.retained.len()],
+                    )
                 }
+            };
+        // The fitted effect on each run: gap - base + columns × (θ - θ_lin).
+        for (((rs, s), base), cols) in run_series.iter_mut().zip(&series).zip(&bases).zip(cols) {
+            for k in 0..rs.t_s.len() {
+                let mut f = [s.gap_m[k][0] - base[k][0], s.gap_m[k][1] - base[k][1]];
+                for (i, &c) in rf.retained.iter().enumerate() {
+                    f[0] += (rf.fit.theta[i] - offset[i]) * cols[c][k][0];
+                    f[1] += (rf.fit.theta[i] - offset[i]) * cols[c][k][1];
+                }
+                rs.fitted_north_m[k] = f[0];
+                rs.fitted_east_m[k] = f[1];
             }
         }
         let w = Winner {
@@ -272,9 +318,23 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
             labels: l.kind.component_labels(),
             first: l.first,
             retained: &rf.retained,
+            offset: &offset,
         };
-        let fit_index: Vec<Vec<usize>> = sens.iter().map(|s| s.times.fit_index.clone()).collect();
-        validation = validate(&w, &data, &series, &out_cols, &fit_index)?;
+        let eval: Vec<EvalRun<'_>> = series
+            .iter()
+            .zip(&bases)
+            .zip(cols)
+            .zip(&sens)
+            .zip(&data)
+            .map(|((((s, b), c), se), d)| EvalRun {
+                series: s,
+                base: b,
+                cols: c,
+                fit_index: &se.times.fit_index,
+                metric: d,
+            })
+            .collect();
+        validation = validate(&w, fit_data, &eval, floor_var)?;
     }
     Ok(Diagnosis {
         n_data: n,

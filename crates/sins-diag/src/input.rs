@@ -82,11 +82,17 @@ pub struct DiagnoseConfig {
     pub walk_step_s: usize,
     /// Candidate kinds by name (empty: the whole catalogue, `EffectKind::catalogue()`).
     pub candidates: Vec<String>,
-    /// Kinds whose perturbation is a strong function of the increments it perturbs, so that
-    /// their columns, evaluated on data that carry them, are biased at first order in the
-    /// magnitude (the time offset: about 7 % per ms); when one wins, its columns are recomputed
-    /// once with the fitted perturbation removed (one more pass per run).
+    /// Kinds refined whenever they are among the leading candidates, even when their linear
+    /// fit is consistent: their perturbation is a strong function of the increments it
+    /// perturbs, so that their columns, evaluated on data that carry them, are biased at
+    /// first order in the magnitude (the time offset: about 7 % per ms).
     pub refine: Vec<String>,
+    /// How many of the leading passing deterministic candidates may be refined (those whose
+    /// linear residual is inconsistent, or whose kind is in `refine`); 0 turns the
+    /// refinement off. Each costs a corrected replay and a sensitivity pass per run and step.
+    pub refine_top: usize,
+    /// Gauss-Newton steps at most per refined candidate.
+    pub refine_steps: usize,
     /// Worker threads (runs are processed in parallel; results do not depend on it).
     pub threads: usize,
 }
@@ -107,6 +113,8 @@ impl Default for DiagnoseConfig {
             walk_step_s: 1200,
             candidates: Vec::new(),
             refine: vec![EffectKind::AccelTimeOffset.name().to_string()],
+            refine_top: 3,
+            refine_steps: 3,
             threads: 2,
         }
     }

@@ -34,13 +34,20 @@
 //!   noise terms with a maximum-likelihood intensity; evidence = chi-square drop (2 Δ log L),
 //!   Bonferroni-corrected tail probability and BIC; chi-square consistency tests with the
 //!   null distribution of the quadratic form (Satterthwaite) so that the floor stays a tolerance.
+//! - **Nonlinear refinement** ([`refine`]): the leading deterministic candidates whose linear
+//!   residual is inconsistent (and a leading time offset) are refined by Gauss-Newton steps
+//!   on the real runs replayed with the fitted effect removed from every raw sample, so that
+//!   effects large enough to bend the error dynamics are fitted and tested on the real
+//!   pipeline, not on an extrapolation.
 //! - **Verdict**: no significant gap / explained by X / partly explained by X / unexplained /
 //!   not separable X vs Y (signatures explaining each other in the twin's metric with evidence
 //!   within a margin).
 //! - **Localisation** ([`localise`]): per segment and channel, first exit from the 3-sigma
 //!   envelope, time-scale shares (secular, 24 h, Schuler, segment steps).
 //! - **Withheld validation** ([`validate`]): leave one run out (or the second half of a single
-//!   run), predict it with twin + θ × sensitivity, RMS and maximum-horizontal-error gaps.
+//!   run), predict it with twin + effect(θ) (θ × sensitivity, or the refined nonlinear
+//!   correction plus the step to the withheld fit), RMS, maximum-horizontal-error and
+//!   systematic gaps (√(χ² − E χ²) in the twin's metric: the gap beyond the twin's spread).
 //!
 //! Entry point: [`diagnose::diagnose`] with an [`input::DiagnosisInput`] and an
 //! [`input::DiagnoseConfig`], returning a serialisable [`report::Diagnosis`].
@@ -62,6 +69,7 @@ pub mod noise;
 pub mod pass;
 pub mod problem;
 pub mod rank;
+pub mod refine;
 pub mod replay;
 pub mod report;
 pub mod sensitivity;

@@ -88,6 +88,83 @@ impl NullDist {
     }
 }
 
+/// What every candidate's test shares: the number of data, the chi-square of the twin alone,
+/// the number of tests of the Bonferroni correction.
+#[derive(Clone, Copy, Debug)]
+pub struct TestContext {
+    /// Number of data.
+    pub n: f64,
+    /// `gᵀ S⁻¹ g` of the twin alone.
+    pub chi0: f64,
+    /// Components and walk axes tested over the catalogue.
+    pub n_tests: f64,
+}
+
+impl TestContext {
+    /// The context of problem `p` for `layouts` and `walks`.
+    pub fn new(p: &Problem, layouts: &[Layout], walks: &[(EffectKind, usize)]) -> Self {
+        Self {
+            n: p.gls.n as f64,
+            chi0: p.gls.chi2(),
+            n_tests: (layouts.iter().map(|l| l.n).sum::<usize>() + 3 * walks.len()).max(1) as f64,
+        }
+    }
+}
+
+/// The evaluation of deterministic candidate `l` from its fit `rf` (whose `fit.dchi2` is the
+/// drop from the twin alone, `ctx.chi0`).
+pub fn regression_evaluated(
+    l: &Layout,
+    rf: RegressionFit,
+    ctx: &TestContext,
+    null: &NullDist,
+    cfg: &DiagnoseConfig,
+) -> Evaluated {
+    let p_single = cfg.alpha / ctx.n_tests;
+    let k = rf.retained.len();
+    let dchi2 = rf.fit.dchi2.max(0.0);
+    let p_value = (chi2_sf(dchi2, k as f64) * ctx.n_tests).min(1.0);
+    let delta_bic = dchi2 - k as f64 * ctx.n.ln();
+    let labels = l.kind.component_labels();
+    let unit = l.kind.unit();
+    let components = (0..l.n)
+        .map(|c| {
+            let alone = rf.sigma_alone[c];
+            let pos = rf.retained.iter().position(|&r| r == c);
+            let (value, sigma) = match pos {
+                Some(i) => (rf.fit.theta[i], Some(rf.fit.cov[(i, i)].max(0.0).sqrt())),
+                None => (0.0, alone.is_finite().then_some(alone)),
+            };
+            ComponentEstimate {
+                label: labels.get(c).copied().unwrap_or("?").to_string(),
+                value,
+                sigma,
+                retained: pos.is_some(),
+                detectable: alone.is_finite().then(|| detectable(alone, p_single)),
+            }
+        })
+        .collect();
+    Evaluated {
+        kind: l.kind,
+        report: CandidateReport {
+            kind: l.kind.name().to_string(),
+            description: l.kind.description().to_string(),
+            unit: unit.label.to_string(),
+            model: CandidateModel::Regression,
+            components,
+            dchi2,
+            dof: k,
+            p_value,
+            delta_bic,
+            plausibility_penalty: 0.0,
+            evidence: 0.0,
+            passes: false,
+            residual: null.test(ctx.chi0 - dchi2, k, cfg.null_alpha),
+        },
+        regression: Some((*l, rf)),
+    }
+}
+
 /// Evaluate the deterministic candidates `layouts` and the random-walk `walks` (kind and the
 /// bias-axis offset: 0 for the gyros, 3 for the accelerometers), best first.
 pub fn evaluate(
@@ -97,56 +174,12 @@ pub fn evaluate(
     null: &NullDist,
     cfg: &DiagnoseConfig,
 ) -> Vec<Evaluated> {
-    let n = p.gls.n as f64;
-    let chi0 = p.gls.chi2();
-    let n_tests = (layouts.iter().map(|l| l.n).sum::<usize>() + 3 * walks.len()).max(1) as f64;
-    let p_single = cfg.alpha / n_tests;
-    let mut out = Vec::new();
-    for l in layouts {
-        let rf = fit_regression(p, l.first, l.n, cfg.z_keep);
-        let k = rf.retained.len();
-        let dchi2 = rf.fit.dchi2.max(0.0);
-        let p_value = (chi2_sf(dchi2, k as f64) * n_tests).min(1.0);
-        let delta_bic = dchi2 - k as f64 * n.ln();
-        let labels = l.kind.component_labels();
-        let unit = l.kind.unit();
-        let components = (0..l.n)
-            .map(|c| {
-                let alone = rf.sigma_alone[c];
-                let pos = rf.retained.iter().position(|&r| r == c);
-                let (value, sigma) = match pos {
-                    Some(i) => (rf.fit.theta[i], Some(rf.fit.cov[(i, i)].max(0.0).sqrt())),
-                    None => (0.0, alone.is_finite().then_some(alone)),
-                };
-                ComponentEstimate {
-                    label: labels.get(c).copied().unwrap_or("?").to_string(),
-                    value,
-                    sigma,
-                    retained: pos.is_some(),
-                    detectable: alone.is_finite().then(|| detectable(alone, p_single)),
-                }
-            })
-            .collect();
-        out.push(Evaluated {
-            kind: l.kind,
-            report: CandidateReport {
-                kind: l.kind.name().to_string(),
-                description: l.kind.description().to_string(),
-                unit: unit.label.to_string(),
-                model: CandidateModel::Regression,
-                components,
-                dchi2,
-                dof: k,
-                p_value,
-                delta_bic,
-                plausibility_penalty: 0.0,
-                evidence: 0.0,
-                passes: p_value < cfg.alpha && delta_bic > 0.0,
-                residual: null.test(chi0 - dchi2, k, cfg.null_alpha),
-            },
-            regression: Some((*l, rf)),
-        });
-    }
+    let ctx = TestContext::new(p, layouts, walks);
+    let p_single = cfg.alpha / ctx.n_tests;
+    let mut out: Vec<Evaluated> = layouts
+        .iter()
+        .map(|l| regression_evaluated(l, fit_regression(p, l.first, l.n, cfg.z_keep), &ctx, null, cfg))
+        .collect();
     for &(kind, offset) in walks {
         let unit = kind.unit();
         let fits: Vec<_> = (0..3)
@@ -157,8 +190,8 @@ pub fn evaluate(
             .unwrap_or(0);
         let f = &fits[best];
         let dchi2 = f.dchi2;
-        let p_value = (0.5 * chi2_sf(dchi2, 1.0) * n_tests).min(1.0);
-        let delta_bic = dchi2 - n.ln();
+        let p_value = (0.5 * chi2_sf(dchi2, 1.0) * ctx.n_tests).min(1.0);
+        let delta_bic = dchi2 - ctx.n.ln();
         let labels = kind.component_labels();
         let components = fits
             .iter()
@@ -188,23 +221,32 @@ pub fn evaluate(
                 delta_bic,
                 plausibility_penalty: 0.0,
                 evidence: 0.0,
-                passes: p_value < cfg.alpha && delta_bic > 0.0,
+                passes: false,
                 residual: null.test(f.residual_chi2, 1, cfg.null_alpha),
             },
             regression: None,
         });
     }
-    // Quasi-likelihood: the best residual's chi-square over its expectation (at least 1).
+    finish_ranking(&mut out, ctx.n, cfg);
+    out
+}
+
+/// Evidence, pass flags and order of evaluated candidates (called again after any of them is
+/// replaced, e.g. by its nonlinear refinement). Evidence is the chi-square drop over the
+/// quasi-likelihood inflation (the best residual's chi-square over its expectation, at least
+/// 1), minus the BIC penalty and the plausibility penalty; a candidate passes when its
+/// Bonferroni p-value is below `alpha`, its ΔBIC and its evidence are positive.
+pub fn finish_ranking(out: &mut [Evaluated], n: f64, cfg: &DiagnoseConfig) {
     let inflation = out
         .iter()
         .map(|e| e.report.residual.chi2 / e.report.residual.dof.max(1.0))
         .fold(f64::INFINITY, f64::min)
         .max(1.0);
-    for e in &mut out {
+    for e in out.iter_mut() {
         let r = &mut e.report;
         r.plausibility_penalty = plausibility_penalty(e.kind, &r.components);
         r.evidence = r.dchi2 / inflation - r.dof as f64 * n.ln() - r.plausibility_penalty;
-        r.passes &= r.evidence > 0.0;
+        r.passes = r.p_value < cfg.alpha && r.delta_bic > 0.0 && r.evidence > 0.0;
     }
     out.sort_by(|a, b| {
         b.report
@@ -212,7 +254,6 @@ pub fn evaluate(
             .cmp(&a.report.passes)
             .then(b.report.evidence.total_cmp(&a.report.evidence))
     });
-    out
 }
 
 /// Fraction of `a`'s fitted signature that `b`'s columns explain, in the twin's metric.

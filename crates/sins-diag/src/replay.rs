@@ -6,7 +6,8 @@ use crate::error::DiagError;
 use crate::source::SampleSource;
 use crate::temperature::TemperatureSeries;
 use sins_harness::replay_setup::{ReplayOptions, StartMode, VerticalMode, build_replay};
-use sins_imu::ImuErrorParams;
+use sins_imu::effects::{ContextTracker, ExtraEffect};
+use sins_imu::{Compensator, ImuErrorParams};
 use sins_nav::alignment::AlignmentConfig;
 use sins_nav::reconstruct::ReconstructConfig;
 use sins_nav::{ConingOrder, Geodetic, StrapdownConfig, VerticalChannel};
@@ -68,6 +69,34 @@ pub fn replay_run(
     site: &Geodetic,
     setup: &ReplaySetup,
 ) -> Result<RealTrack, DiagError> {
+    replay_impl(run, source, params, site, setup, None)
+}
+
+/// Replay `source` as [`replay_run`] does, with the perturbation of `effect` removed from every
+/// raw sample first: the real run as the model extended by `effect` would compensate it. The
+/// effect's context (its "true" increments) is the compensated sample, its temperature rates
+/// come from `temperatures` (the series of the plain replay).
+pub fn replay_corrected(
+    run: &str,
+    source: &mut dyn SampleSource,
+    params: &ImuErrorParams,
+    site: &Geodetic,
+    setup: &ReplaySetup,
+    effect: &mut dyn ExtraEffect,
+    temperatures: &TemperatureSeries,
+) -> Result<RealTrack, DiagError> {
+    effect.reset();
+    replay_impl(run, source, params, site, setup, Some((effect, temperatures)))
+}
+
+fn replay_impl(
+    run: &str,
+    source: &mut dyn SampleSource,
+    params: &ImuErrorParams,
+    site: &Geodetic,
+    setup: &ReplaySetup,
+    mut correction: Option<(&mut dyn ExtraEffect, &TemperatureSeries)>,
+) -> Result<RealTrack, DiagError> {
     let h = source.sample_interval_s();
     let t0 = source.start_time_s();
     let options = ReplayOptions {
@@ -79,11 +108,31 @@ pub fn replay_run(
     };
     let mut replay = build_replay(run, params, *site, h, t0, &options)
         .map_err(|e| DiagError::input(run, e.to_string()))?;
+    let comp = Compensator::new(*params)
+        .ok_or_else(|| DiagError::input(run, "parameter set is singular"))?;
+    let mut tracker = ContextTracker::new();
     let mut temps = TemperatureSeries::new(t0);
     source.visit(&mut |samples, segments| {
         for (s, &g) in samples.iter().zip(segments) {
             temps.push(s, h);
-            replay.push(s, g)?;
+            match correction.as_mut() {
+                Some((effect, series)) => {
+                    let ctx = tracker.next(
+                        s.t_s,
+                        h,
+                        comp.dtheta_rad(&s.dtheta_rad, h),
+                        comp.dv_mps(&s.dv_mps, h, &s.temp_degc),
+                        s.temp_degc,
+                        series.rate_at(s.t_s - 0.5 * h),
+                    );
+                    let (p_theta, p_v) = effect.perturbation(&ctx);
+                    let mut c = *s;
+                    c.dtheta_rad -= p_theta;
+                    c.dv_mps -= p_v;
+                    replay.push(&c, g)?;
+                }
+                None => replay.push(s, g)?,
+            }
         }
         Ok(())
     })?;

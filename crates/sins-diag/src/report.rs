@@ -190,6 +190,19 @@ pub struct ValidationReport {
     pub rms_shrinkage_percent: f64,
     /// `100 (1 - after/before)` for the maximum-horizontal-error gap.
     pub max_shrinkage_percent: f64,
+    /// Systematic gap before, `√max(0, gᵀ S⁻¹ g - E₀)` on the withheld fit points: the gap
+    /// beyond what the twin's noise and calibration uncertainty explain, in the twin's own
+    /// metric (dimensionless; 0 when the gap is within the twin's spread on average).
+    #[serde(default)]
+    pub systematic_before: f64,
+    /// Systematic gap after the fitted effect is added.
+    #[serde(default)]
+    pub systematic_after: f64,
+    /// `100 (1 - after/before)` of the systematic gap: the share of the gap the twin cannot
+    /// attribute to noise that the effect removes. Unlike the RMS gap it is not diluted by the
+    /// noise that the twin already predicts.
+    #[serde(default)]
+    pub systematic_shrinkage_percent: f64,
 }
 
 /// Time series of one run on the output grid, for plots.

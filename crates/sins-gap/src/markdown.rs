@@ -164,12 +164,12 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
     } else {
         let _ = writeln!(
             md,
-            "| effect | fitted on | evaluated on | max gap before (m) | after (m) | RMS gap before (m) | after (m) | shrinkage (RMS / max) |\n|---|---|---|---|---|---|---|---|"
+            "| effect | fitted on | evaluated on | max gap before (m) | after (m) | RMS gap before (m) | after (m) | systematic gap before | after | shrinkage (systematic / RMS / max) |\n|---|---|---|---|---|---|---|---|---|---|"
         );
         for v in &d.validation {
             let _ = writeln!(
                 md,
-                "| `{}` | {} | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.0} % / {:.0} % |",
+                "| `{}` | {} | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.0} % / {:.0} % / {:.0} % |",
                 v.kind,
                 v.fitted_on,
                 v.evaluated_on,
@@ -177,11 +177,20 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
                 v.after.max_horizontal_gap_m,
                 v.before.rms_gap_m,
                 v.after.rms_gap_m,
+                v.systematic_before,
+                v.systematic_after,
+                v.systematic_shrinkage_percent,
                 v.rms_shrinkage_percent,
                 v.max_shrinkage_percent
             );
         }
-        let _ = writeln!(md);
+        let _ = writeln!(
+            md,
+            "\nThe systematic gap is √max(0, χ² − E χ²) on the withheld run's fit points in the \
+             twin's metric (noise, calibration uncertainty): the gap beyond the twin's own spread, \
+             which is what an unmodelled effect adds. The RMS gap also carries the noise the twin \
+             already predicts, so it cannot shrink below that noise whatever the model.\n"
+        );
     }
     if !plots.is_empty() {
         let _ = writeln!(md, "## Plots\n");

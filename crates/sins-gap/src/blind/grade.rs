@@ -25,8 +25,12 @@ pub struct CaseGrade {
     pub fitted: Option<(f64, f64)>,
     /// The fit is within 3 sigma of the hidden magnitude.
     pub within_3_sigma: Option<bool>,
-    /// RMS gap shrinkage on withheld runs when the hidden kind was identified (%).
+    /// Systematic gap shrinkage on withheld runs when the hidden kind was identified (%,
+    /// mean over the withheld runs): the part of the gap beyond the twin's spread that the
+    /// fitted effect removes (`ValidationReport::systematic_shrinkage_percent`).
     pub shrinkage_percent: Option<f64>,
+    /// RMS gap shrinkage on the same runs (%), diluted by the noise the twin already predicts.
+    pub rms_shrinkage_percent: Option<f64>,
 }
 
 /// The suite's grades.
@@ -42,8 +46,10 @@ pub struct Grades {
     pub out_of_catalogue_unexplained: (usize, usize),
     /// Identified cases with the fit within 3 sigma / identified cases with a sigma.
     pub magnitudes_within_3_sigma: (usize, usize),
-    /// Median RMS gap shrinkage on withheld runs over the correctly identified cases (%).
+    /// Median systematic gap shrinkage on withheld runs over the correctly identified cases (%).
     pub median_shrinkage_percent: Option<f64>,
+    /// Median RMS gap shrinkage over the same cases (%).
+    pub median_rms_shrinkage_percent: Option<f64>,
     /// Rows: hidden kind (`none` for null cases); columns: outcome; counts.
     pub confusion: BTreeMap<String, BTreeMap<String, usize>>,
     /// Detectable level per kind (paper unit): the median over the cases of that kind.
@@ -100,12 +106,15 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
             .map(|((v, s), h)| (v - h.magnitude).abs() <= 3.0 * s);
         // Shrinkage counts where the diagnosis named the hidden effect (what was added to the
         // model is then the effect that is really there).
-        let shrink: Vec<f64> = d
+        let named: Vec<&sins_diag::report::ValidationReport> = d
             .validation
             .iter()
             .filter(|v| right && identified.as_deref() == Some(v.kind.as_str()))
-            .map(|v| v.rms_shrinkage_percent)
             .collect();
+        let mean = |f: &dyn Fn(&sins_diag::report::ValidationReport) -> f64| {
+            (!named.is_empty())
+                .then(|| named.iter().map(|v| f(v)).sum::<f64>() / named.len() as f64)
+        };
         out.push(CaseGrade {
             answer: a.clone(),
             outcome,
@@ -114,8 +123,8 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
             above_detectable,
             fitted,
             within_3_sigma,
-            shrinkage_percent: (!shrink.is_empty())
-                .then(|| shrink.iter().sum::<f64>() / shrink.len() as f64),
+            shrinkage_percent: mean(&|v| v.systematic_shrinkage_percent),
+            rms_shrinkage_percent: mean(&|v| v.rms_shrinkage_percent),
         });
     }
     let inside = |g: &&CaseGrade| g.answer.hidden.as_ref().is_some_and(|h| h.in_catalogue);
@@ -162,6 +171,9 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
         out_of_catalogue_unexplained: (unexplained, ooc.len()),
         magnitudes_within_3_sigma: (checked.iter().filter(|&&b| b).count(), checked.len()),
         median_shrinkage_percent: median(out.iter().filter_map(|g| g.shrinkage_percent).collect()),
+        median_rms_shrinkage_percent: median(
+            out.iter().filter_map(|g| g.rms_shrinkage_percent).collect(),
+        ),
         detectable_by_kind: levels
             .into_iter()
             .filter_map(|(k, v)| median(v).map(|m| (k, m)))
@@ -209,9 +221,18 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
     );
     let _ = writeln!(
         md,
-        "| median RMS gap shrinkage on withheld runs | {} | ≥ 80 % |\n",
+        "| median gap shrinkage on withheld runs, systematic (RMS) | {} ({}) | ≥ 80 % |\n",
         g.median_shrinkage_percent
+            .map_or("-".into(), |v| format!("{v:.0} %")),
+        g.median_rms_shrinkage_percent
             .map_or("-".into(), |v| format!("{v:.0} %"))
+    );
+    let _ = writeln!(
+        md,
+        "Shrinkage is counted where the hidden effect was named. The systematic gap is \
+         √max(0, χ² − E χ²) of the withheld run in the twin's metric: the gap beyond what the \
+         twin's noise and calibration uncertainty give on average. The RMS gap also carries \
+         that noise, which no model of the effect can remove.\n"
     );
     let cols: Vec<String> = {
         let mut c: Vec<String> = g
@@ -245,7 +266,7 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
     }
     let _ = writeln!(
         md,
-        "\n## Cases\n\n| case | hidden | magnitude (× typical) | detectable | diagnosis | fitted ± 1σ | within 3σ | shrinkage |\n|---|---|---|---|---|---|---|---|"
+        "\n## Cases\n\n| case | hidden | magnitude (× typical) | detectable | diagnosis | fitted ± 1σ | within 3σ | shrinkage, systematic (RMS) |\n|---|---|---|---|---|---|---|---|"
     );
     for c in &g.cases {
         let (hidden, mag) = match &c.answer.hidden {
@@ -270,8 +291,10 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
                 .map_or("-".into(), |(v, s)| format!("{v:.3e} ± {s:.1e}")),
             c.within_3_sigma
                 .map_or("-", |b| if b { "yes" } else { "no" }),
-            c.shrinkage_percent
-                .map_or("-".into(), |v| format!("{v:.0} %"))
+            match (c.shrinkage_percent, c.rms_shrinkage_percent) {
+                (Some(s), Some(r)) => format!("{s:.0} % ({r:.0} %)"),
+                _ => "-".into(),
+            }
         );
     }
     md
@@ -335,8 +358,11 @@ mod tests {
                     max_horizontal_gap_m: 10.0,
                     rms_gap_m: 5.0,
                 },
-                rms_shrinkage_percent: 90.0,
+                rms_shrinkage_percent: 40.0,
                 max_shrinkage_percent: 90.0,
+                systematic_before: 20.0,
+                systematic_after: 2.0,
+                systematic_shrinkage_percent: 90.0,
             })
             .into_iter()
             .collect();
@@ -420,6 +446,7 @@ mod tests {
         assert_eq!(g.out_of_catalogue_unexplained, (1, 1));
         assert_eq!(g.magnitudes_within_3_sigma, (1, 1));
         assert_eq!(g.median_shrinkage_percent, Some(90.0));
+        assert_eq!(g.median_rms_shrinkage_percent, Some(40.0));
         assert_eq!(g.confusion["none"]["gyro_bias_temp"], 1);
         assert_eq!(g.confusion["size_effect"]["none"], 1);
         let md = render_grades(&g, "abc");

@@ -61,16 +61,27 @@ pub struct SuiteShape {
     pub out_of_catalogue: usize,
     /// Magnitudes are drawn log-uniformly between these multiples of the typical magnitude.
     pub times_typical: (f64, f64),
+    /// The same for the effects outside the catalogue: large enough to leave a gap, since
+    /// "which effect explains it" arises only when there is a gap (a 2× typical accelerometer
+    /// bias step hides in the twin's noise and is rightly reported as no gap).
+    #[serde(default = "default_outside_times_typical")]
+    pub outside_times_typical: (f64, f64),
+}
+
+fn default_outside_times_typical() -> (f64, f64) {
+    (10.0, 50.0)
 }
 
 impl Default for SuiteShape {
-    /// 30 cases: 5 null, 3 out of the catalogue, 22 from the catalogue at 2-20 times typical.
+    /// 30 cases: 5 null, 3 out of the catalogue at 10-50 times typical, 22 from the
+    /// catalogue at 2-20 times typical.
     fn default() -> Self {
         Self {
             cases: 30,
             null_cases: 5,
             out_of_catalogue: 3,
             times_typical: (2.0, 20.0),
+            outside_times_typical: default_outside_times_typical(),
         }
     }
 }
@@ -110,7 +121,6 @@ pub fn draw_cases(shape: &SuiteShape, suite_seed: u64) -> Vec<CaseAnswer> {
         let j = ((uniform() * (i + 1) as f64) as usize).min(i);
         kinds.swap(i, j);
     }
-    let (lo, hi) = shape.times_typical;
     kinds
         .into_iter()
         .enumerate()
@@ -119,6 +129,11 @@ pub fn draw_cases(shape: &SuiteShape, suite_seed: u64) -> Vec<CaseAnswer> {
             let hidden = kind.map(|k| {
                 let component =
                     ((uniform() * k.n_components() as f64) as usize).min(k.n_components() - 1);
+                let (lo, hi) = if k.in_catalogue() {
+                    shape.times_typical
+                } else {
+                    shape.outside_times_typical
+                };
                 // Six significant digits: the manifests (JSON) then read back exactly.
                 let times = round_sig(lo * (hi / lo).powf(uniform()), 6);
                 let sign = if uniform() < 0.5 { -1.0 } else { 1.0 };
@@ -173,7 +188,8 @@ mod tests {
         }
         for c in &a {
             if let Some(h) = &c.hidden {
-                assert!((1.99..=20.01).contains(&h.times_typical));
+                let range = if h.in_catalogue { 1.99..=20.01 } else { 9.99..=50.01 };
+                assert!(range.contains(&h.times_typical), "{h:?}");
                 let spec = c.spec().unwrap();
                 let m = spec.magnitudes_si();
                 let kind = EffectKind::from_name(&h.kind).unwrap();
