@@ -6,18 +6,19 @@ use crate::calib::{ParamUncertainty, uncertainty};
 use crate::error::DiagError;
 use crate::input::{DiagnoseConfig, DiagnosisInput, RunData};
 use crate::localise::{GapSeries, localise};
+use crate::noise::NoiseSpec;
 use crate::pass::Grid;
 use crate::problem::{Problem, RunFitData, run_fit_data};
 use crate::rank::{
-    Evaluated, Layout, NullDist, TestContext, evaluate, finish_ranking, regression_evaluated, verdict,
+    Evaluated, Layout, NullDist, TestContext, evaluate, finish_ranking, regression_evaluated,
+    verdict,
 };
 use crate::refine::{Refinement, refine};
-use crate::noise::NoiseSpec;
-use sins_imu::ImuErrorParams;
 use crate::replay::temperature_series;
 use crate::report::{Diagnosis, RunSeries};
 use crate::sensitivity::{ColumnId, RunSensitivity, SensitivitySetup, run_sensitivity};
 use crate::validate::{EvalRun, OutputColumns, Winner, validate};
+use sins_imu::ImuErrorParams;
 use sins_imu::{EffectKind, Linearity};
 use sins_replay::ErrorPoint;
 
@@ -50,7 +51,10 @@ pub fn par_runs<T: Send>(
     for (chunk_runs, chunk_out) in runs.chunks_mut(threads).zip(results.chunks_mut(threads)) {
         std::thread::scope(|s| {
             let f = &f;
-            let handles: Vec<_> = chunk_runs.iter_mut().map(|r| s.spawn(move || f(r))).collect();
+            let handles: Vec<_> = chunk_runs
+                .iter_mut()
+                .map(|r| s.spawn(move || f(r)))
+                .collect();
             for (h, o) in handles.into_iter().zip(chunk_out.iter_mut()) {
                 *o = Some(h.join().unwrap_or_else(|_| {
                     Err(DiagError::Numerical("a worker thread panicked".into()))
@@ -248,7 +252,11 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
                      effect removed ({}; residual chi-square {:.1} -> {:.1})",
                     l.kind.name(),
                     r.steps,
-                    if r.converged { "converged" } else { "not converged" },
+                    if r.converged {
+                        "converged"
+                    } else {
+                        "not converged"
+                    },
                     ctx.chi0 - rf.fit.dchi2,
                     ctx.chi0 - r.rf.fit.dchi2,
                 ));
@@ -283,24 +291,28 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
     if let Some((l, rf)) = winner.and_then(|w| w.regression.as_ref()) {
         let refined = refinements.iter().find(|r| r.layout.kind == l.kind);
         let linear_cols: Vec<OutputColumns>;
-        let (fit_data, bases, cols, offset): (&[RunFitData], Vec<&[[f64; 2]]>, &[OutputColumns], Vec<f64>) =
-            match refined {
-                Some(r) => (
-                    &r.data,
-                    r.corrected_gap.iter().map(|g| g.as_slice()).collect(),
-                    &r.out_cols,
-                    r.theta_lin.clone(),
-                ),
-                None => {
-                    linear_cols = sens.iter().map(|s| output_columns(s, l)).collect();
-                    (
-                        &data,
-                        series.iter().map(|s| s.gap_m.as_slice()).collect(),
-                        &linear_cols,
-                        vec![0.0; rf.retained.len()],
-                    )
-                }
-            };
+        let (fit_data, bases, cols, offset): (
+            &[RunFitData],
+            Vec<&[[f64; 2]]>,
+            &[OutputColumns],
+            Vec<f64>,
+        ) = match refined {
+            Some(r) => (
+                &r.data,
+                r.corrected_gap.iter().map(|g| g.as_slice()).collect(),
+                &r.out_cols,
+                r.theta_lin.clone(),
+            ),
+            None => {
+                linear_cols = sens.iter().map(|s| output_columns(s, l)).collect();
+                (
+                    &data,
+                    series.iter().map(|s| s.gap_m.as_slice()).collect(),
+                    &linear_cols,
+                    vec![0.0; rf.retained.len()],
+                )
+            }
+        };
         // The fitted effect on each run: gap - base + columns × (θ - θ_lin).
         for (((rs, s), base), cols) in run_series.iter_mut().zip(&series).zip(&bases).zip(cols) {
             for k in 0..rs.t_s.len() {

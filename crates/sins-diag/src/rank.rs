@@ -178,7 +178,15 @@ pub fn evaluate(
     let p_single = cfg.alpha / ctx.n_tests;
     let mut out: Vec<Evaluated> = layouts
         .iter()
-        .map(|l| regression_evaluated(l, fit_regression(p, l.first, l.n, cfg.z_keep), &ctx, null, cfg))
+        .map(|l| {
+            regression_evaluated(
+                l,
+                fit_regression(p, l.first, l.n, cfg.z_keep),
+                &ctx,
+                null,
+                cfg,
+            )
+        })
         .collect();
     for &(kind, offset) in walks {
         let unit = kind.unit();

@@ -192,9 +192,8 @@ pub fn refine(
         retained = now;
         theta.resize(retained.len(), 0.0);
         let converged = !added
-            && (0..retained.len()).all(|i| {
-                delta.theta[i].abs() <= 0.1 * delta.cov[(i, i)].max(0.0).sqrt()
-            });
+            && (0..retained.len())
+                .all(|i| delta.theta[i].abs() <= 0.1 * delta.cov[(i, i)].max(0.0).sqrt());
         let theta_lin = theta.clone();
         for (t, d) in theta.iter_mut().zip(delta.theta.iter()) {
             *t += d;

@@ -86,7 +86,14 @@ pub fn replay_corrected(
     temperatures: &TemperatureSeries,
 ) -> Result<RealTrack, DiagError> {
     effect.reset();
-    replay_impl(run, source, params, site, setup, Some((effect, temperatures)))
+    replay_impl(
+        run,
+        source,
+        params,
+        site,
+        setup,
+        Some((effect, temperatures)),
+    )
 }
 
 fn replay_impl(

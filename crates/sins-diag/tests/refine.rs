@@ -16,7 +16,11 @@ fn runs(value: f64) -> Vec<sins_sim::Scenario> {
     [(10.0, 8.0, 31), (30.0, -6.0, 32)]
         .iter()
         .map(|&(start, rate, seed)| {
-            let mut sc = scenario(vibration_motion(hours), 200.0, ramp_thermal(start, rate, hours));
+            let mut sc = scenario(
+                vibration_motion(hours),
+                200.0,
+                ramp_thermal(start, rate, hours),
+            );
             sc.noise = paper_noise();
             sc.thermal.thermometer_noise_degc = 0.01;
             sc.seed = seed;
@@ -50,7 +54,11 @@ fn a_size_effect_beyond_the_linear_range_is_refined_to_its_true_value() {
             .iter()
             .find(|c| c.kind == "size_effect")
             .expect("size effect evaluated");
-        let x = c.components.iter().find(|x| x.label == "ax.x").expect("ax.x");
+        let x = c
+            .components
+            .iter()
+            .find(|x| x.label == "ax.x")
+            .expect("ax.x");
         (x.value, x.sigma.unwrap_or(f64::INFINITY), c.residual.chi2)
     };
     let (lin_value, lin_sigma, lin_resid) = pick(&linear);
@@ -60,8 +68,14 @@ fn a_size_effect_beyond_the_linear_range_is_refined_to_its_true_value() {
         (lin_value - truth_mm).abs() > 10.0 * lin_sigma,
         "linear {lin_value} ± {lin_sigma}"
     );
-    assert!((value - truth_mm).abs() < 3.0 * sigma, "refined {value} ± {sigma}");
-    assert!(resid < 0.1 * lin_resid, "residual {resid} vs linear {lin_resid}");
+    assert!(
+        (value - truth_mm).abs() < 3.0 * sigma,
+        "refined {value} ± {sigma}"
+    );
+    assert!(
+        resid < 0.1 * lin_resid,
+        "residual {resid} vs linear {lin_resid}"
+    );
     assert_eq!(d.candidates[0].kind, "size_effect");
     assert!(d.candidates[0].residual.consistent, "{:?}", d.verdict);
     // Withheld: the effect fitted on the other run removes nearly all the systematic gap.

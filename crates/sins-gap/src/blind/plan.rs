@@ -188,7 +188,11 @@ mod tests {
         }
         for c in &a {
             if let Some(h) = &c.hidden {
-                let range = if h.in_catalogue { 1.99..=20.01 } else { 9.99..=50.01 };
+                let range = if h.in_catalogue {
+                    1.99..=20.01
+                } else {
+                    9.99..=50.01
+                };
                 assert!(range.contains(&h.times_typical), "{h:?}");
                 let spec = c.spec().unwrap();
                 let m = spec.magnitudes_si();
