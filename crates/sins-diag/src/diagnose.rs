@@ -13,7 +13,7 @@ use crate::rank::{
     Evaluated, Layout, NullDist, TestContext, evaluate, finish_ranking, regression_evaluated,
     verdict,
 };
-use crate::refine::{Refinement, refine};
+use crate::refine::{RefineStart, Refinement, refine};
 use crate::replay::temperature_series;
 use crate::report::{Diagnosis, RunSeries};
 use crate::sensitivity::{ColumnId, RunSensitivity, SensitivitySetup, run_sensitivity};
@@ -235,17 +235,14 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         };
         let (params, noise) = (input.params, input.noise);
         let setup = base_setup(&params, &noise, cfg, &kinds);
-        match refine(
-            input,
-            cfg,
-            &setup,
-            &data,
-            &problem,
-            l,
-            &rf,
-            ctx.chi0,
-            cfg.refine_steps,
-        ) {
+        let start = RefineStart {
+            base: &data,
+            p0: &problem,
+            layout: l,
+            rf: &rf,
+            chi0: ctx.chi0,
+        };
+        match refine(input, cfg, &setup, &start) {
             Ok(Some(r)) => {
                 notes.push(format!(
                     "{}: refined by {} Gauss-Newton step(s) on the runs replayed with the fitted \
@@ -291,28 +288,29 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
     if let Some((l, rf)) = winner.and_then(|w| w.regression.as_ref()) {
         let refined = refinements.iter().find(|r| r.layout.kind == l.kind);
         let linear_cols: Vec<OutputColumns>;
-        let (fit_data, bases, cols, offset): (
-            &[RunFitData],
-            Vec<&[[f64; 2]]>,
-            &[OutputColumns],
-            Vec<f64>,
-        ) = match refined {
-            Some(r) => (
-                &r.data,
-                r.corrected_gap.iter().map(|g| g.as_slice()).collect(),
-                &r.out_cols,
-                r.theta_lin.clone(),
-            ),
+        let about = match refined {
+            Some(r) => Linearisation {
+                fit_data: &r.data,
+                bases: r.corrected_gap.iter().map(|g| g.as_slice()).collect(),
+                cols: &r.out_cols,
+                offset: r.theta_lin.clone(),
+            },
             None => {
                 linear_cols = sens.iter().map(|s| output_columns(s, l)).collect();
-                (
-                    &data,
-                    series.iter().map(|s| s.gap_m.as_slice()).collect(),
-                    &linear_cols,
-                    vec![0.0; rf.retained.len()],
-                )
+                Linearisation {
+                    fit_data: &data,
+                    bases: series.iter().map(|s| s.gap_m.as_slice()).collect(),
+                    cols: &linear_cols,
+                    offset: vec![0.0; rf.retained.len()],
+                }
             }
         };
+        let Linearisation {
+            fit_data,
+            bases,
+            cols,
+            offset,
+        } = about;
         // The fitted effect on each run: gap - base + columns × (θ - θ_lin).
         for (((rs, s), base), cols) in run_series.iter_mut().zip(&series).zip(&bases).zip(cols) {
             for k in 0..rs.t_s.len() {
@@ -358,6 +356,15 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         series: run_series,
         notes,
     })
+}
+
+/// The winner's fit data and columns about its linearisation point (zero, or the refined
+/// estimate with the gap corrected by it).
+struct Linearisation<'a> {
+    fit_data: &'a [RunFitData],
+    bases: Vec<&'a [[f64; 2]]>,
+    cols: &'a [OutputColumns],
+    offset: Vec<f64>,
 }
 
 /// Twin 1-sigma `[north, east]` at each output time: noise, calibration, floor.

@@ -55,7 +55,7 @@ fn corrected_pass(
     cfg: &DiagnoseConfig,
     setup: &SensitivitySetup<'_>,
     spec: &EffectSpec,
-) -> Result<Vec<(Vec<[f64; 2]>, RunSensitivity)>, DiagError> {
+) -> Result<Vec<CorrectedRun>, DiagError> {
     let params = input.params;
     par_runs(&mut input.runs, cfg.threads, |r| {
         let temps = r
@@ -94,8 +94,25 @@ fn corrected_pass(
     })
 }
 
-/// Refine candidate `l` from its linear fit `rf` on the base fit data `base` (one per run, in
-/// the order of `input.runs`; `p0` their problem), with `chi0` the twin-alone chi-square.
+/// Where a refinement starts.
+#[derive(Clone, Copy)]
+pub struct RefineStart<'a> {
+    /// The base fit data (one per run, in the order of the input's runs).
+    pub base: &'a [RunFitData],
+    /// Their stacked problem.
+    pub p0: &'a Problem,
+    /// The candidate.
+    pub layout: Layout,
+    /// Its linear fit.
+    pub rf: &'a RegressionFit,
+    /// The twin-alone chi-square.
+    pub chi0: f64,
+}
+
+/// One run corrected: its gap on the output grid (m) and the candidate's columns about it.
+type CorrectedRun = (Vec<[f64; 2]>, RunSensitivity);
+
+/// Refine the candidate of `start` (at most `cfg.refine_steps` steps).
 ///
 /// The refinement starts from the strongest single component of the linear fit alone: when
 /// the linear model is off, the further components of its forward selection mostly absorb the
@@ -108,13 +125,16 @@ pub fn refine(
     input: &mut DiagnosisInput,
     cfg: &DiagnoseConfig,
     base_setup: &SensitivitySetup<'_>,
-    base: &[RunFitData],
-    p0: &Problem,
-    l: Layout,
-    rf: &RegressionFit,
-    chi0: f64,
-    max_steps: usize,
+    start: &RefineStart<'_>,
 ) -> Result<Option<Refinement>, DiagError> {
+    let RefineStart {
+        base,
+        p0,
+        layout: l,
+        rf,
+        chi0,
+    } = *start;
+    let max_steps = cfg.refine_steps;
     let Some(&c0) = rf.retained.first() else {
         return Ok(None);
     };
@@ -176,7 +196,7 @@ pub fn refine(
         let p = Problem::new(&all)?;
         let chi2_at_lin = p.gls.chi2();
         if let Some(b) = best.as_mut()
-            && !(chi2_at_lin < b.chi2_at_lin)
+            && chi2_at_lin.partial_cmp(&b.chi2_at_lin) != Some(std::cmp::Ordering::Less)
         {
             // The step made things worse (or NaN): keep the previous linearisation point, whose
             // residual was evaluated, without its step.
