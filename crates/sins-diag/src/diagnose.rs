@@ -397,7 +397,7 @@ fn envelope(s: &RunSensitivity, pu: Option<&ParamUncertainty>, floor: f64) -> Ve
 }
 
 /// A deterministic candidate's columns on a run's output grid, per candidate unit.
-fn output_columns(s: &RunSensitivity, l: &Layout) -> OutputColumns {
+pub(crate) fn output_columns(s: &RunSensitivity, l: &Layout) -> OutputColumns {
     let si = l.kind.unit().si;
     (0..l.n)
         .map(|c| match s.column(ColumnId::Effect(l.kind, c)) {

@@ -13,13 +13,13 @@
 //! (small) linear step: a nonlinear likelihood, not an extrapolation.
 
 use crate::candidates::{RegressionFit, forward_select, select};
-use crate::diagnose::{par_runs, track_at};
+use crate::diagnose::{output_columns, par_runs, track_at};
 use crate::error::DiagError;
 use crate::input::{DiagnoseConfig, DiagnosisInput};
 use crate::problem::{Problem, RunFitData};
 use crate::rank::Layout;
 use crate::replay::replay_corrected;
-use crate::sensitivity::{ColumnId, RunSensitivity, SensitivitySetup, run_sensitivity};
+use crate::sensitivity::{RunSensitivity, SensitivitySetup, run_sensitivity};
 use crate::validate::OutputColumns;
 use sins_imu::EffectSpec;
 
@@ -174,19 +174,12 @@ pub fn refine(
                 fd.gap[2 * j] = gap[k][0];
                 fd.gap[2 * j + 1] = gap[k][1];
             }
-            let mut cols = Vec::with_capacity(l.n);
-            for c in 0..l.n {
-                let out: Vec<[f64; 2]> = match s.column(ColumnId::Effect(l.kind, c)) {
-                    Some(i) => (0..s.times.times_s.len())
-                        .map(|k| [si * s.north_m[i][k], si * s.east_m[i][k]])
-                        .collect(),
-                    None => vec![[0.0; 2]; s.times.times_s.len()],
-                };
+            let cols = output_columns(&s, &l);
+            for (c, out) in cols.iter().enumerate() {
                 for (j, &k) in s.times.fit_index.iter().enumerate() {
                     fd.columns[(2 * j, l.first + c)] = out[k][0];
                     fd.columns[(2 * j + 1, l.first + c)] = out[k][1];
                 }
-                cols.push(out);
             }
             data.push(fd);
             corrected_gap.push(gap);
