@@ -173,6 +173,7 @@ fn main() {
         param_sigma: None,
         param_covariance: None,
         noise,
+        calibration_run: None,
     };
     let d = diagnose(&mut input, &DiagnoseConfig::default()).expect("diagnosis");
     eprintln!("diagnose: {:.1} s", t.elapsed().as_secs_f64());

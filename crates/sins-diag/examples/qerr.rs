@@ -55,6 +55,7 @@ fn main() {
         param_sigma: None,
         param_covariance: None,
         noise,
+        calibration_run: None,
     };
     let cfg = DiagnoseConfig {
         floor_sigma_m: 1e-3,

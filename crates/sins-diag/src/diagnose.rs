@@ -2,6 +2,7 @@
 //! parallel), the gap on the fit grid, the null test, the candidates, the verdict, the
 //! localisation and the withheld validation.
 
+use crate::absorb::{Absorption, absorption};
 use crate::calib::{ParamUncertainty, uncertainty};
 use crate::error::DiagError;
 use crate::input::{DiagnoseConfig, DiagnosisInput, RunData};
@@ -111,6 +112,76 @@ fn sensitivities(
     })
 }
 
+/// The calibration run's absorption of every deterministic candidate, folded into the
+/// candidate columns of every run (none without a calibration run among the inputs).
+fn calibration_absorption(
+    input: &mut DiagnosisInput,
+    cfg: &DiagnoseConfig,
+    layouts: &[Layout],
+    sens: &mut [RunSensitivity],
+    notes: &mut Vec<String>,
+) -> Result<Option<Absorption>, DiagError> {
+    let Some(name) = input.calibration_run.clone() else {
+        notes.push(
+            "no calibration run among the inputs: the candidates act on the navigation only, \
+             not through the coefficients a calibration in their presence would have biased"
+                .into(),
+        );
+        return Ok(None);
+    };
+    let params = input.params;
+    let noise = input.noise;
+    let run = input
+        .runs
+        .iter_mut()
+        .find(|r| r.name == name)
+        .ok_or_else(|| DiagError::input(&name, "the calibration run is not among the runs"))?;
+    let temps = run
+        .temperatures
+        .as_ref()
+        .ok_or_else(|| DiagError::input(&name, "temperature series missing"))?;
+    let comps: Vec<(EffectKind, usize)> = layouts
+        .iter()
+        .flat_map(|l| (0..l.n).map(move |c| (l.kind, c)))
+        .collect();
+    let a = absorption(
+        &name,
+        run.source.as_mut(),
+        &run.site,
+        temps,
+        &params,
+        &noise,
+        &comps,
+        cfg.threads,
+    )?;
+    for s in sens.iter_mut() {
+        a.fold(s, None);
+    }
+    let given = sins_kf::params_to_vec(&params, params.model);
+    let sigma = input
+        .param_sigma
+        .map(|p| sins_kf::params_to_vec(&p, params.model));
+    let worst = sigma.map(|sg| {
+        given
+            .iter()
+            .zip(&a.recalibrated)
+            .zip(&sg)
+            .map(|((g, r), s)| if *s > 0.0 { (g - r).abs() / s } else { 0.0 })
+            .fold(0.0, f64::max)
+    });
+    notes.push(format!(
+        "calibration absorption: run '{name}' recalibrated ({}-state filter, twin noise) once as \
+         recorded and once per candidate component with it added, {} components; each candidate \
+         acts on the navigation directly and through the coefficients it biases{}",
+        params.model.n_states(),
+        comps.len(),
+        worst.map_or(String::new(), |w| format!(
+            "; the recalibration reproduces the given set within {w:.2} sigma"
+        ))
+    ));
+    Ok(Some(a))
+}
+
 /// Diagnose the gap between the real runs and their twin.
 pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diagnosis, DiagError> {
     if input.runs.is_empty() {
@@ -123,7 +194,7 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         ));
     }
     let kinds = cfg.candidate_kinds().map_err(|e| DiagError::input("", e))?;
-    let sens = sensitivities(input, cfg, &kinds)?;
+    let mut sens = sensitivities(input, cfg, &kinds)?;
     let mut notes = vec![
         "twin mean = error-free floor (zero unless given); twin spread = sensor noise (white + \
          Gauss-Markov biases, linear covariance through the alignment) + calibration one-sigma \
@@ -158,6 +229,7 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
             }
         }
     }
+    let absorption = calibration_absorption(input, cfg, &layouts, &mut sens, &mut notes)?;
     let pu = uncertainty(
         &input.params,
         input.param_sigma.as_ref(),
@@ -229,6 +301,12 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         })
         .collect();
     let mut refinements: Vec<Refinement> = Vec::new();
+    // The best residual chi-square of a deterministic candidate so far.
+    let mut best_residual = ranked
+        .iter()
+        .filter(|e| e.regression.is_some())
+        .map(|e| ctx.chi0 - e.report.dchi2)
+        .fold(f64::INFINITY, f64::min);
     for i in targets {
         let Some((l, rf)) = ranked[i].regression.clone() else {
             continue;
@@ -237,10 +315,13 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         let setup = base_setup(&params, &noise, cfg, &kinds);
         let start = RefineStart {
             base: &data,
+            base_sens: &sens,
+            absorption: absorption.as_ref(),
             p0: &problem,
             layout: l,
             rf: &rf,
             chi0: ctx.chi0,
+            stop_above: cfg.refine_competitive * best_residual,
         };
         match refine(input, cfg, &setup, &start) {
             Ok(Some(r)) => {
@@ -251,12 +332,15 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
                     r.steps,
                     if r.converged {
                         "converged"
+                    } else if r.uncompetitive {
+                        "stopped: its predicted residual stays far above the best candidate's"
                     } else {
                         "not converged"
                     },
                     ctx.chi0 - rf.fit.dchi2,
                     ctx.chi0 - r.rf.fit.dchi2,
                 ));
+                best_residual = best_residual.min(ctx.chi0 - r.rf.fit.dchi2);
                 ranked[i] = regression_evaluated(&l, r.rf.clone(), &ctx, &dist, cfg);
                 refinements.push(r);
             }

@@ -46,6 +46,10 @@ pub struct DiagnosisInput {
     pub param_covariance: Option<Vec<f64>>,
     /// Sensor noise of the twin.
     pub noise: NoiseSpec,
+    /// The run (by name) the parameter set was calibrated from, if it is among `runs`: the
+    /// candidates then also act through the coefficients the calibration absorbed them into
+    /// (see [`crate::absorb`]).
+    pub calibration_run: Option<String>,
 }
 
 /// Settings of a diagnosis.
@@ -93,6 +97,10 @@ pub struct DiagnoseConfig {
     pub refine_top: usize,
     /// Gauss-Newton steps at most per refined candidate.
     pub refine_steps: usize,
+    /// A refinement stops after the step whose predicted residual chi-square exceeds this many
+    /// times the best residual so far (linear or refined, over the deterministic candidates):
+    /// such a candidate cannot come close to the leader, so further steps only cost time.
+    pub refine_competitive: f64,
     /// Worker threads (runs are processed in parallel; results do not depend on it).
     pub threads: usize,
 }
@@ -115,6 +123,7 @@ impl Default for DiagnoseConfig {
             refine: vec![EffectKind::AccelTimeOffset.name().to_string()],
             refine_top: 3,
             refine_steps: 3,
+            refine_competitive: 10.0,
             threads: 2,
         }
     }

@@ -54,6 +54,7 @@
 
 #![warn(missing_docs)]
 
+pub mod absorb;
 pub mod align;
 pub mod bank;
 pub mod calib;

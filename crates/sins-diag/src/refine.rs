@@ -12,6 +12,7 @@
 //! residual chi-square of a refined candidate is that of the corrected runs after the last
 //! (small) linear step: a nonlinear likelihood, not an extrapolation.
 
+use crate::absorb::Absorption;
 use crate::candidates::{RegressionFit, forward_select, select};
 use crate::diagnose::{output_columns, par_runs, track_at};
 use crate::error::DiagError;
@@ -46,6 +47,8 @@ pub struct Refinement {
     pub steps: usize,
     /// The last step moved every component by less than a tenth of its sigma.
     pub converged: bool,
+    /// Stopped because the predicted residual stayed above `RefineStart::stop_above`.
+    pub uncompetitive: bool,
 }
 
 /// One corrected pass of every run: the corrected gap (output grid) and the candidate's
@@ -56,7 +59,7 @@ fn corrected_pass(
     setup: &SensitivitySetup<'_>,
     spec: &EffectSpec,
 ) -> Result<Vec<CorrectedRun>, DiagError> {
-    let params = input.params;
+    let params = *setup.params;
     par_runs(&mut input.runs, cfg.threads, |r| {
         let temps = r
             .temperatures
@@ -99,6 +102,10 @@ fn corrected_pass(
 pub struct RefineStart<'a> {
     /// The base fit data (one per run, in the order of the input's runs).
     pub base: &'a [RunFitData],
+    /// The base sensitivity passes (their calibration columns carry the absorption).
+    pub base_sens: &'a [RunSensitivity],
+    /// How the calibration absorbs the candidates, when a calibration run was given.
+    pub absorption: Option<&'a Absorption>,
     /// Their stacked problem.
     pub p0: &'a Problem,
     /// The candidate.
@@ -107,6 +114,9 @@ pub struct RefineStart<'a> {
     pub rf: &'a RegressionFit,
     /// The twin-alone chi-square.
     pub chi0: f64,
+    /// Stop after a step whose predicted residual chi-square is above this (a candidate that
+    /// cannot compete with the leader; `f64::INFINITY`: never).
+    pub stop_above: f64,
 }
 
 /// One run corrected: its gap on the output grid (m) and the candidate's columns about it.
@@ -120,7 +130,8 @@ type CorrectedRun = (Vec<[f64; 2]>, RunSensitivity);
 /// the update of the components kept so far and adds, by forward selection, any component
 /// whose chi-square drop on the corrected runs is at least `max(z_keep², ln n)`. At most
 /// `max_steps` Gauss-Newton steps; a step that raises the corrected chi-square ends the
-/// iteration at the previous point.
+/// iteration at the previous point, and a step whose predicted residual stays above
+/// `start.stop_above` is the last.
 pub fn refine(
     input: &mut DiagnosisInput,
     cfg: &DiagnoseConfig,
@@ -129,10 +140,13 @@ pub fn refine(
 ) -> Result<Option<Refinement>, DiagError> {
     let RefineStart {
         base,
+        base_sens,
+        absorption,
         p0,
         layout: l,
         rf,
         chi0,
+        stop_above,
     } = *start;
     let max_steps = cfg.refine_steps;
     let Some(&c0) = rf.retained.first() else {
@@ -160,11 +174,21 @@ pub fn refine(
         let Some(spec) = EffectSpec::zero(l.kind).with_magnitudes_si(&values) else {
             return Ok(best);
         };
+        // The set the calibration would have identified without the effect.
+        let params = absorption.map_or(*base_setup.params, |a| {
+            a.without(base_setup.params, l.kind, &values)
+        });
         let setup = SensitivitySetup {
+            params: &params,
             refine: Some((l.kind, values)),
             ..*base_setup
         };
-        let passes = corrected_pass(input, cfg, &setup, &spec)?;
+        let mut passes = corrected_pass(input, cfg, &setup, &spec)?;
+        if let Some(a) = absorption {
+            for ((_, s), b) in passes.iter_mut().zip(base_sens) {
+                a.fold(s, Some(b));
+            }
+        }
         let mut data = Vec::with_capacity(base.len());
         let mut corrected_gap = Vec::new();
         let mut out_cols = Vec::new();
@@ -229,8 +253,9 @@ pub fn refine(
             chi2_at_lin,
             steps: step,
             converged,
+            uncompetitive: !converged && residual > stop_above,
         });
-        if converged {
+        if converged || residual > stop_above {
             break;
         }
     }

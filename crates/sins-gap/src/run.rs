@@ -28,6 +28,10 @@ pub struct DiagnoseRequest {
     pub param_covariance: Option<Vec<f64>>,
     /// The twin's sensor noise.
     pub noise: NoiseSpec,
+    /// The dataset (by name) the parameter set was calibrated from, when it is among
+    /// `datasets`: its recalibration with each candidate added tells how the calibration
+    /// absorbed the candidate (see `sins_diag::absorb`).
+    pub calibration_run: Option<String>,
     /// Diagnosis settings.
     pub config: DiagnoseConfig,
 }
@@ -103,6 +107,7 @@ pub fn diagnose_datasets(req: &DiagnoseRequest) -> Result<DiagnosisOutcome, GapE
         param_sigma: req.param_sigma,
         param_covariance: req.param_covariance.clone(),
         noise: req.noise,
+        calibration_run: req.calibration_run.clone(),
     };
     let t = Instant::now();
     let diagnosis = diagnose(&mut input, &req.config)?;

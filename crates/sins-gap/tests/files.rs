@@ -55,6 +55,7 @@ fn request(file: PathBuf) -> DiagnoseRequest {
         param_sigma: None,
         param_covariance: None,
         noise: NoiseSpec::from(&exp.scenarios[0].noise),
+        calibration_run: None,
         config: DiagnoseConfig::default(),
     }
 }

@@ -31,6 +31,13 @@ pub struct Args {
     /// Output directory: report.md, diagnosis.json, gap_<run>.png, diagnosis.rrd.
     #[arg(long, default_value = "reports/diagnosis")]
     pub out: PathBuf,
+    /// The run the parameter set was calibrated from (by `sinsbench calibrate`, same model):
+    /// the diagnosis recalibrates it once per candidate component with the component added, so
+    /// that each candidate also acts through the coefficients the calibration absorbed it into
+    /// (an effect present during calibration biases them; about 1 s of filter per component).
+    /// Default: the run named `cal`, if any; `none` turns it off.
+    #[arg(long, value_name = "NAME")]
+    pub calibration_run: Option<String>,
     /// Worker threads (results do not depend on it).
     #[arg(long, default_value_t = 2)]
     pub threads: usize,
@@ -56,6 +63,19 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         }
         datasets.push((name, path));
     }
+    let calibration_run = match args.calibration_run.as_deref() {
+        Some("none") => None,
+        Some(name) => {
+            if !datasets.iter().any(|(n, _)| n == name) {
+                bail!("--calibration-run {name}: no --dataset is named '{name}'");
+            }
+            Some(name.to_string())
+        }
+        None => datasets
+            .iter()
+            .find(|(n, _)| n == "cal")
+            .map(|(n, _)| n.clone()),
+    };
     let set = sins_config::load_params(&args.params)?;
     let noise_path = args
         .noise_from
@@ -89,6 +109,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         param_sigma: set.sigma,
         param_covariance: None,
         noise,
+        calibration_run,
         config,
     })?;
     let parent = args.out.parent().map_or(PathBuf::from("."), PathBuf::from);

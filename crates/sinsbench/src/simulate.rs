@@ -27,6 +27,11 @@ pub struct Args {
     /// Also write the truth columns (ref_lat_rad … ref_yaw_rad).
     #[arg(long)]
     pub reference: bool,
+    /// Add the `[[imu.effect]]` tables of this TOML file to every run's IMU, after the
+    /// experiment's own (e.g. to make "real" data with a known unmodelled effect for
+    /// `diagnose`; keys and units in experiments/README.md).
+    #[arg(long, value_name = "FILE")]
+    pub effects: Option<PathBuf>,
 }
 
 /// Dataset file format.
@@ -54,6 +59,20 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         .clone()
         .unwrap_or_else(defaults::navigation_experiment);
     let experiment = sins_config::load_experiment(&path)?;
+    let extra = match &args.effects {
+        Some(f) => {
+            let text = std::fs::read_to_string(f)
+                .with_context(|| format!("cannot read effects file {}", f.display()))?;
+            let specs = sins_config::parse_effects_toml(&text, &f.display().to_string())?;
+            anyhow::ensure!(
+                !specs.is_empty(),
+                "{}: no [[imu.effect]] table",
+                f.display()
+            );
+            specs
+        }
+        None => Vec::new(),
+    };
     let out = args
         .out
         .clone()
@@ -83,6 +102,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             scenario.seed = seed;
         }
         scenario.with_reference |= args.reference;
+        scenario.effects.extend(extra.iter().cloned());
         let file = out.join(format!("{}.{}", scenario.name, args.format.extension()));
         let summary = simulate_one(&experiment.name, &scenario, &file, quiet)?;
         println!(

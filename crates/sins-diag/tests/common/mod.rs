@@ -218,6 +218,7 @@ pub fn input(
         param_sigma: sigma,
         param_covariance: None,
         noise: NoiseSpec::from(&scenarios[0].noise),
+        calibration_run: None,
     }
 }
 

@@ -61,8 +61,12 @@ pub struct SuiteResult {
     pub markdown: String,
 }
 
+/// Name of each case's calibration run among its datasets.
+const CALIBRATION_RUN: &str = "cal";
+
 /// Generate one case's data from its (sealed) answer: calibrate the real IMU, write its
-/// navigation runs; returns the dataset list and the calibrated parameter set.
+/// calibration run and its navigation runs; returns the dataset list and the calibrated
+/// parameter set.
 fn generate(
     cfg: &SuiteConfig,
     answer: &CaseAnswer,
@@ -91,7 +95,11 @@ fn generate(
     .ok_or_else(|| GapError::Invalid("no calibration result".into()))?;
     progress.end();
     std::fs::create_dir_all(dir).map_err(|e| GapError::io(dir, e))?;
-    let mut datasets = Vec::new();
+    // The same calibration run as a file (the same seed gives the same samples): the diagnosis
+    // replays it too and measures from it how the calibration absorbed the effect.
+    let cal_file = dir.join(format!("{CALIBRATION_RUN}.parquet"));
+    simulate_to_dataset(&cal_exp.name, &cal, &cal_file, progress)?;
+    let mut datasets = vec![(CALIBRATION_RUN.to_string(), cal_file)];
     for (i, sc) in nav_exp.scenarios.iter().enumerate() {
         if !cfg.navigation_runs.is_empty() && !cfg.navigation_runs.contains(&sc.name) {
             continue;
@@ -133,6 +141,7 @@ pub fn run_suite(cfg: &SuiteConfig, progress: &mut dyn Progress) -> Result<Suite
             param_sigma: Some(cal.sigma),
             param_covariance: Some(cal.param_covariance.clone()),
             noise,
+            calibration_run: Some(CALIBRATION_RUN.to_string()),
             config: cfg.diagnose.clone(),
         };
         let outcome = diagnose_datasets(&request)?;

@@ -1,0 +1,232 @@
+//! Calibration absorption: how the system-level calibration turns an unmodelled effect that is
+//! present during the calibration run into biased coefficients.
+//!
+//! The parameter set the twin replays with was identified by the 42-state (or 30-state) filter
+//! on a calibration run of the same IMU. An effect outside the paper's model is present there
+//! too, and the filter, which has no state for it, explains part of it with its coefficients: a
+//! quadratic nonlinearity of 85 ug/g² on the z accelerometer moves the calibrated gyro scale
+//! factors by 24 ppm (75 sigma) and the installation errors by 9 arcsec. In navigation the
+//! effect then acts twice: directly on the increments, and through the coefficients the
+//! compensation got wrong. With `J = ∂θ̂/∂m` (coefficients per unit magnitude) the navigation
+//! error of magnitude `m` is `(a_direct - Σ_i a_param,i J_i) m`, `a_param,i` being the response to
+//! a coefficient that the compensation leaves uncorrected.
+//!
+//! `J` is measured with the real pipeline: the calibration run is recalibrated once as recorded
+//! and once per candidate component with that component's perturbation added to every raw
+//! sample (finite differences with common samples, so the noise cancels exactly). The filter is
+//! set up as `sinsbench calibrate` sets it up for this model and reference temperature, with
+//! the twin's noise; one pass over the data feeds every filter.
+
+use crate::error::DiagError;
+use crate::noise::NoiseSpec;
+use crate::sensitivity::{ColumnId, RunSensitivity};
+use crate::source::SampleSource;
+use crate::temperature::TemperatureSeries;
+use sins_imu::effects::{ContextTracker, EffectContext, ExtraEffect};
+use sins_imu::{Compensator, EffectKind, EffectSpec, ImuErrorParams, ImuSample};
+use sins_kf::{CalibrationConfig, CalibrationFilter, FilterNoise, params_to_vec};
+use sins_nav::Geodetic;
+
+/// Size of the finite-difference perturbation, in multiples of the kind's typical magnitude.
+const STEP_TIMES_TYPICAL: f64 = 10.0;
+
+/// The coefficients' response to each candidate component.
+#[derive(Clone, Debug)]
+pub struct Absorption {
+    /// The calibration run.
+    pub run: String,
+    /// Candidate components, in the order of `jacobian`.
+    pub components: Vec<(EffectKind, usize)>,
+    /// `∂θ̂/∂m` per component: SI coefficient (eq 8 order, 21 or 33 entries) per SI magnitude.
+    pub jacobian: Vec<Vec<f64>>,
+    /// The recalibration of the run as recorded (SI, eq 8 order).
+    pub recalibrated: Vec<f64>,
+}
+
+impl Absorption {
+    /// `∂θ̂/∂m` of `kind`'s component `c`, if computed.
+    pub fn of(&self, kind: EffectKind, c: usize) -> Option<&[f64]> {
+        self.components
+            .iter()
+            .position(|&k| k == (kind, c))
+            .map(|i| self.jacobian[i].as_slice())
+    }
+
+    /// `params` with the coefficients moved by `-J m` for `kind`'s SI magnitudes `values`:
+    /// the set the calibration would have identified without the effect.
+    pub fn without(&self, params: &ImuErrorParams, kind: EffectKind, values: &[f64]) -> ImuErrorParams {
+        let model = params.model;
+        let mut theta = params_to_vec(params, model);
+        for (c, &m) in values.iter().enumerate() {
+            if let Some(j) = self.of(kind, c) {
+                for (t, d) in theta.iter_mut().zip(j) {
+                    *t -= d * m;
+                }
+            }
+        }
+        sins_kf::params_from_vec(&theta, model, params.reference_temperature_degc)
+    }
+}
+
+/// One filter fed with the run plus one perturbation.
+struct Arm {
+    effect: Option<(Box<dyn ExtraEffect>, f64)>,
+    filter: CalibrationFilter,
+}
+
+/// Measure the absorption on calibration run `source` (site `site`, temperature series `temps`)
+/// for `components`, with the filter of `params.model` referred to `params`' reference
+/// temperature and driven by the twin's `noise`. `threads` filters run at once (the result does
+/// not depend on it).
+pub fn absorption(
+    run: &str,
+    source: &mut dyn SampleSource,
+    site: &Geodetic,
+    temps: &TemperatureSeries,
+    params: &ImuErrorParams,
+    noise: &NoiseSpec,
+    components: &[(EffectKind, usize)],
+    threads: usize,
+) -> Result<Absorption, DiagError> {
+    let h = source.sample_interval_s();
+    let model = params.model;
+    let filter_err = |e: sins_kf::CalibrationError| DiagError::input(run, e.to_string());
+    let new_filter = || {
+        let mut config = CalibrationConfig::new(model, h, *site);
+        config.noise = FilterNoise::from_sensor(
+            noise.gyro_arw_rad_per_sqrt_s,
+            noise.gyro_bias.sigma,
+            noise.gyro_bias.correlation_s,
+            noise.accel_vrw_mps_per_sqrt_s,
+            noise.accel_bias.sigma,
+            noise.accel_bias.correlation_s,
+        );
+        let mut initial = ImuErrorParams::ideal(model);
+        initial.reference_temperature_degc = params.reference_temperature_degc;
+        CalibrationFilter::new(config, initial).map_err(filter_err)
+    };
+    let mut arms = vec![Arm {
+        effect: None,
+        filter: new_filter()?,
+    }];
+    for &(kind, c) in components {
+        let step = STEP_TIMES_TYPICAL * kind.typical_magnitude_si();
+        let mut values = vec![0.0; kind.n_components()];
+        values[c] = step;
+        let spec = EffectSpec::zero(kind)
+            .with_magnitudes_si(&values)
+            .ok_or_else(|| DiagError::input(run, format!("{}: bad component {c}", kind.name())))?;
+        arms.push(Arm {
+            effect: Some((spec.build(params), step)),
+            filter: new_filter()?,
+        });
+    }
+    let comp = Compensator::new(*params)
+        .ok_or_else(|| DiagError::input(run, "parameter set is singular"))?;
+    let mut tracker = ContextTracker::new();
+    let mut ctxs = Vec::new();
+    let threads = threads.max(1);
+    source.visit(&mut |samples: &[ImuSample], _| {
+        ctxs.clear();
+        for s in samples {
+            ctxs.push(tracker.next(
+                s.t_s,
+                h,
+                comp.dtheta_rad(&s.dtheta_rad, h),
+                comp.dv_mps(&s.dv_mps, h, &s.temp_degc),
+                s.temp_degc,
+                temps.rate_at(s.t_s - 0.5 * h),
+            ));
+        }
+        let per = arms.len().div_ceil(threads);
+        let ctxs = &ctxs;
+        std::thread::scope(|scope| {
+            let handles: Vec<_> = arms
+                .chunks_mut(per)
+                .map(|chunk| scope.spawn(move || feed(chunk, samples, ctxs)))
+                .collect();
+            handles.into_iter().try_for_each(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err(DiagError::Numerical("a calibration thread panicked".into())))
+            })
+        })
+    })?;
+    let mut results = Vec::with_capacity(arms.len());
+    for arm in arms {
+        let step = arm.effect.as_ref().map_or(0.0, |e| e.1);
+        let r = arm.filter.finish().map_err(filter_err)?;
+        results.push((params_to_vec(&r.params, model), step));
+    }
+    let (base, _) = results.remove(0);
+    let jacobian = results
+        .iter()
+        .map(|(theta, step)| theta.iter().zip(&base).map(|(a, b)| (a - b) / step).collect())
+        .collect();
+    Ok(Absorption {
+        run: run.to_string(),
+        components: components.to_vec(),
+        jacobian,
+        recalibrated: base,
+    })
+}
+
+/// Feed a batch to some filters, each with its perturbation added.
+fn feed(
+    arms: &mut [Arm],
+    samples: &[ImuSample],
+    ctxs: &[EffectContext],
+) -> Result<(), DiagError> {
+    for arm in arms {
+        for (s, ctx) in samples.iter().zip(ctxs) {
+            let mut x = *s;
+            if let Some((effect, _)) = arm.effect.as_mut() {
+                let (p_theta, p_v) = effect.perturbation(ctx);
+                x.dtheta_rad += p_theta;
+                x.dv_mps += p_v;
+            }
+            arm.filter
+                .push(&x)
+                .map_err(|e| DiagError::Numerical(format!("calibration filter: {e}")))?;
+        }
+    }
+    Ok(())
+}
+
+impl Absorption {
+    /// Add the path through the calibration to the candidate columns of `target`: each effect
+    /// column `a_direct` becomes `a_direct - Σ_i a_param,i J_i`, the coefficient responses
+    /// `a_param,i` taken from `params_of` (a pass with calibration columns on the same output
+    /// grid; `None`: `target` itself).
+    pub fn fold(&self, target: &mut RunSensitivity, params_of: Option<&RunSensitivity>) {
+        let n = target.times.times_s.len();
+        let mut updates = Vec::new();
+        {
+            let src = params_of.unwrap_or(&*target);
+            if src.times.times_s.len() != n {
+                return;
+            }
+            for (&(kind, c), jac) in self.components.iter().zip(&self.jacobian) {
+                let Some(ie) = target.column(ColumnId::Effect(kind, c)) else {
+                    continue;
+                };
+                let (mut dn, mut de) = (vec![0.0; n], vec![0.0; n]);
+                for (slot, &j) in jac.iter().enumerate() {
+                    let Some(ip) = src.column(ColumnId::Param(slot)).filter(|_| j != 0.0) else {
+                        continue;
+                    };
+                    for t in 0..n {
+                        dn[t] += j * src.north_m[ip][t];
+                        de[t] += j * src.east_m[ip][t];
+                    }
+                }
+                updates.push((ie, dn, de));
+            }
+        }
+        for (ie, dn, de) in updates {
+            for t in 0..n {
+                target.north_m[ie][t] -= dn[t];
+                target.east_m[ie][t] -= de[t];
+            }
+        }
+    }
+}
