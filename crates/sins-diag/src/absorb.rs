@@ -54,7 +54,12 @@ impl Absorption {
 
     /// `params` with the coefficients moved by `-J m` for `kind`'s SI magnitudes `values`:
     /// the set the calibration would have identified without the effect.
-    pub fn without(&self, params: &ImuErrorParams, kind: EffectKind, values: &[f64]) -> ImuErrorParams {
+    pub fn without(
+        &self,
+        params: &ImuErrorParams,
+        kind: EffectKind,
+        values: &[f64],
+    ) -> ImuErrorParams {
         let model = params.model;
         let mut theta = params_to_vec(params, model);
         for (c, &m) in values.iter().enumerate() {
@@ -74,20 +79,34 @@ struct Arm {
     filter: CalibrationFilter,
 }
 
-/// Measure the absorption on calibration run `source` (site `site`, temperature series `temps`)
-/// for `components`, with the filter of `params.model` referred to `params`' reference
-/// temperature and driven by the twin's `noise`. `threads` filters run at once (the result does
-/// not depend on it).
+/// The calibration run as the absorption needs it.
+pub struct CalibrationRun<'a> {
+    /// Its name.
+    pub run: &'a str,
+    /// Its samples.
+    pub source: &'a mut dyn SampleSource,
+    /// Turntable site.
+    pub site: &'a Geodetic,
+    /// Its temperature series (rates for the temperature-rate candidates).
+    pub temps: &'a TemperatureSeries,
+}
+
+/// Measure the absorption on calibration run `cal` for `components`, with the filter of
+/// `params.model` referred to `params`' reference temperature and driven by the twin's `noise`.
+/// `threads` filters run at once (the result does not depend on it).
 pub fn absorption(
-    run: &str,
-    source: &mut dyn SampleSource,
-    site: &Geodetic,
-    temps: &TemperatureSeries,
+    cal: CalibrationRun<'_>,
     params: &ImuErrorParams,
     noise: &NoiseSpec,
     components: &[(EffectKind, usize)],
     threads: usize,
 ) -> Result<Absorption, DiagError> {
+    let CalibrationRun {
+        run,
+        source,
+        site,
+        temps,
+    } = cal;
     let h = source.sample_interval_s();
     let model = params.model;
     let filter_err = |e: sins_kf::CalibrationError| DiagError::input(run, e.to_string());
@@ -146,8 +165,9 @@ pub fn absorption(
                 .map(|chunk| scope.spawn(move || feed(chunk, samples, ctxs)))
                 .collect();
             handles.into_iter().try_for_each(|h| {
-                h.join()
-                    .unwrap_or_else(|_| Err(DiagError::Numerical("a calibration thread panicked".into())))
+                h.join().unwrap_or_else(|_| {
+                    Err(DiagError::Numerical("a calibration thread panicked".into()))
+                })
             })
         })
     })?;
@@ -160,7 +180,13 @@ pub fn absorption(
     let (base, _) = results.remove(0);
     let jacobian = results
         .iter()
-        .map(|(theta, step)| theta.iter().zip(&base).map(|(a, b)| (a - b) / step).collect())
+        .map(|(theta, step)| {
+            theta
+                .iter()
+                .zip(&base)
+                .map(|(a, b)| (a - b) / step)
+                .collect()
+        })
         .collect();
     Ok(Absorption {
         run: run.to_string(),
@@ -171,11 +197,7 @@ pub fn absorption(
 }
 
 /// Feed a batch to some filters, each with its perturbation added.
-fn feed(
-    arms: &mut [Arm],
-    samples: &[ImuSample],
-    ctxs: &[EffectContext],
-) -> Result<(), DiagError> {
+fn feed(arms: &mut [Arm], samples: &[ImuSample], ctxs: &[EffectContext]) -> Result<(), DiagError> {
     for arm in arms {
         for (s, ctx) in samples.iter().zip(ctxs) {
             let mut x = *s;

@@ -2,7 +2,7 @@
 //! parallel), the gap on the fit grid, the null test, the candidates, the verdict, the
 //! localisation and the withheld validation.
 
-use crate::absorb::{Absorption, absorption};
+use crate::absorb::{Absorption, CalibrationRun, absorption};
 use crate::calib::{ParamUncertainty, uncertainty};
 use crate::error::DiagError;
 use crate::input::{DiagnoseConfig, DiagnosisInput, RunData};
@@ -144,16 +144,13 @@ fn calibration_absorption(
         .iter()
         .flat_map(|l| (0..l.n).map(move |c| (l.kind, c)))
         .collect();
-    let a = absorption(
-        &name,
-        run.source.as_mut(),
-        &run.site,
+    let cal = CalibrationRun {
+        run: &name,
+        source: run.source.as_mut(),
+        site: &run.site,
         temps,
-        &params,
-        &noise,
-        &comps,
-        cfg.threads,
-    )?;
+    };
+    let a = absorption(cal, &params, &noise, &comps, cfg.threads)?;
     for s in sens.iter_mut() {
         a.fold(s, None);
     }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use sins_diag::absorb::absorption;
+use sins_diag::absorb::{CalibrationRun, absorption};
 use sins_diag::noise::NoiseSpec;
 use sins_diag::replay::temperature_series;
 use sins_harness::pipeline::simulate_and_calibrate;
@@ -39,11 +39,14 @@ fn absorption_predicts_the_calibration_of_an_imu_with_the_effect() {
 
     let mut src = common::source(&cal);
     let temps = temperature_series(&mut src, 60).expect("temperatures");
+    let run = CalibrationRun {
+        run: "cal",
+        source: &mut src,
+        site: &cal.site,
+        temps: &temps,
+    };
     let a = absorption(
-        "cal",
-        &mut src,
-        &cal.site,
-        &temps,
+        run,
         &plain.params,
         &NoiseSpec::from(&cal.noise),
         &[(kind, 2)],
@@ -56,7 +59,10 @@ fn absorption_predicts_the_calibration_of_an_imu_with_the_effect() {
     let moved = params_to_vec(&biased.params, ParamModel::States42);
     // The recalibration of the recorded run is the calibration that made the set.
     for (k, (r, b)) in a.recalibrated.iter().zip(&base).enumerate() {
-        assert!((r - b).abs() <= 1e-6 * sigma[k], "coefficient {k}: {r} vs {b}");
+        assert!(
+            (r - b).abs() <= 1e-6 * sigma[k],
+            "coefficient {k}: {r} vs {b}"
+        );
     }
     let j = a.of(kind, 2).expect("component computed");
     let mut worst_shift = 0.0f64;

@@ -181,7 +181,8 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
 /// The hidden effect of the large-gap benchmark set: an 8 mm x-accelerometer lever arm, which
 /// rectifies Table 4's vibration into a few hundred km of error and needs the nonlinear
 /// refinement (the slowest path of `diagnose`).
-const GAP_EFFECT: &str = "[[imu.effect]]\nkind = \"size_effect\"\nlever_arm_x_mm = [-8.0, 0.0, 0.0]\n";
+const GAP_EFFECT: &str =
+    "[[imu.effect]]\nkind = \"size_effect\"\nlever_arm_x_mm = [-8.0, 0.0, 0.0]\n";
 
 /// Calibrate and diagnose a set whose "real" IMU has an unmodelled effect, so the diagnosis
 /// finds a large gap, ranks, refines and validates: the 2-minute target's worst case.
@@ -199,7 +200,10 @@ fn gap_set(dir: &Path, exp: &Path) -> Result<()> {
         "--out",
         &p(&gap_dir),
     ])?;
-    let mut sim = vec!["simulate".to_string(), p(&exp.join("paper_navigation.toml"))];
+    let mut sim = vec![
+        "simulate".to_string(),
+        p(&exp.join("paper_navigation.toml")),
+    ];
     for a in ["--effects", &p(&effects), "--out", &p(&gap_dir)] {
         sim.push(a.to_string());
     }

@@ -44,6 +44,10 @@ pub struct Grades {
     pub false_alarms: (usize, usize),
     /// Out-of-catalogue cases reported as unexplained (or only partly explained) / such cases.
     pub out_of_catalogue_unexplained: (usize, usize),
+    /// The same over the out-of-catalogue cases that left a significant gap (those reported
+    /// `none` left nothing to explain at their magnitude, as in-catalogue cases below the
+    /// detectable level).
+    pub out_of_catalogue_unexplained_with_gap: (usize, usize),
     /// Identified cases with the fit within 3 sigma / identified cases with a sigma.
     pub magnitudes_within_3_sigma: (usize, usize),
     /// Median systematic gap shrinkage on withheld runs over the correctly identified cases (%).
@@ -169,6 +173,10 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
         top1: (hits, scored.len()),
         false_alarms: (alarms, nulls.len()),
         out_of_catalogue_unexplained: (unexplained, ooc.len()),
+        out_of_catalogue_unexplained_with_gap: (
+            unexplained,
+            ooc.iter().filter(|g| g.outcome != "none").count(),
+        ),
         magnitudes_within_3_sigma: (checked.iter().filter(|&&b| b).count(), checked.len()),
         median_shrinkage_percent: median(out.iter().filter_map(|g| g.shrinkage_percent).collect()),
         median_rms_shrinkage_percent: median(
@@ -213,6 +221,11 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
         md,
         "| out-of-catalogue cases reported unexplained | {} | ≥ 2 in 3 |",
         frac(g.out_of_catalogue_unexplained)
+    );
+    let _ = writeln!(
+        md,
+        "| ... of those that left a significant gap | {} | ≥ 2 in 3 |",
+        frac(g.out_of_catalogue_unexplained_with_gap)
     );
     let _ = writeln!(
         md,
@@ -444,6 +457,7 @@ mod tests {
         assert_eq!(g.top1, (1, 2));
         assert_eq!(g.false_alarms, (1, 2));
         assert_eq!(g.out_of_catalogue_unexplained, (1, 1));
+        assert_eq!(g.out_of_catalogue_unexplained_with_gap, (1, 1));
         assert_eq!(g.magnitudes_within_3_sigma, (1, 1));
         assert_eq!(g.median_shrinkage_percent, Some(90.0));
         assert_eq!(g.median_rms_shrinkage_percent, Some(40.0));
