@@ -19,11 +19,15 @@ const N_INPUTS: usize = 13;
 /// Number of moments kept.
 const N_MOMENTS: usize = 3;
 
+/// Storage of [`MomentSums`]: moment, column, navigation-frame component, input.
+type Sums = [[[[f64; N_INPUTS]; 3]; 3]; N_MOMENTS];
+
 /// Per-interval sums `Σ wₙ(s_k) C_k[:, i] u_j,k` for moments n, columns i and inputs j.
 #[derive(Clone, Debug)]
 pub(crate) struct MomentSums {
-    /// `sums[n][i][j]` is a 3-vector in the navigation frame.
-    sums: [[[Vec3; N_INPUTS]; 3]; N_MOMENTS],
+    /// `sums[n][i][r][j]` is component `r` (navigation frame) of the 3-vector of moment `n`,
+    /// column `i`, input `j` (inputs innermost, so that a sample's update is contiguous).
+    sums: Sums,
     /// Interval length (s).
     interval_s: f64,
     /// Sample interval (s).
@@ -38,7 +42,7 @@ impl MomentSums {
     /// Empty sums for intervals of `interval_s` made of samples of `h` seconds.
     pub(crate) fn new(interval_s: f64, h: f64, with_temperature: bool) -> Self {
         Self {
-            sums: [[[Vec3::zeros(); N_INPUTS]; 3]; N_MOMENTS],
+            sums: [[[[0.0; N_INPUTS]; 3]; 3]; N_MOMENTS],
             interval_s,
             h,
             count: 0,
@@ -48,7 +52,7 @@ impl MomentSums {
 
     /// Restart for the next interval.
     pub(crate) fn clear(&mut self) {
-        self.sums = [[[Vec3::zeros(); N_INPUTS]; 3]; N_MOMENTS];
+        self.sums = [[[[0.0; N_INPUTS]; 3]; 3]; N_MOMENTS];
         self.count = 0;
     }
 
@@ -69,20 +73,16 @@ impl MomentSums {
             }
         }
         u[U_DT] = h;
-        const ALL: [usize; N_INPUTS] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12];
-        const CONSTANT: [usize; 7] = [0, 1, 2, 3, 4, 5, U_DT];
-        let used: &[usize] = if self.with_temperature {
-            &ALL
-        } else {
-            &CONSTANT
-        };
+        // Without temperature the temperature inputs stay zero and add exact zeros.
         let w = [1.0, tau, 0.5 * tau * tau];
         for (n, wn) in w.iter().enumerate() {
             for i in 0..3 {
-                let c = c_mid.column(i).into_owned() * *wn;
-                let row = &mut self.sums[n][i];
-                for &j in used {
-                    row[j] += c * u[j];
+                for r in 0..3 {
+                    let c = c_mid[(r, i)] * wn;
+                    let row = &mut self.sums[n][i][r];
+                    for (acc, uj) in row.iter_mut().zip(&u) {
+                        *acc += c * uj;
+                    }
                 }
             }
         }
@@ -95,8 +95,7 @@ impl MomentSums {
 
     /// Mean specific force in n over the interval (m/s^2), `Σ C_k dv_k / T`.
     pub(crate) fn mean_specific_force_ned(&self) -> Vec3 {
-        let s = &self.sums[0];
-        (s[0][3] + s[1][4] + s[2][5]) / self.interval_s
+        (self.vector(0, 0, 3) + self.vector(0, 1, 4) + self.vector(0, 2, 5)) / self.interval_s
     }
 
     /// The 9 x `n_params` block `Φ_np = M_0 + F M_1 + F² M_2` for navigation matrix `f`.
@@ -113,6 +112,12 @@ impl MomentSums {
         out
     }
 
+    /// The navigation-frame 3-vector of moment `n`, column `i`, input `j`.
+    fn vector(&self, n: usize, i: usize, j: usize) -> Vec3 {
+        let s = &self.sums[n][i];
+        Vec3::new(s[0][j], s[1][j], s[2][j])
+    }
+
     /// `M_n` as a 9 x `n_params` matrix (rows: φ, δV, position; position rows are zero).
     fn input_block(&self, n: usize, n_params: usize) -> Mat<f64> {
         let mut m = Mat::<f64>::zeros(9, n_params);
@@ -121,7 +126,7 @@ impl MomentSums {
                 Row::Attitude => (PHI, -1.0),
                 Row::Velocity => (VEL, 1.0),
             };
-            let v = self.sums[n][i][j];
+            let v = self.vector(n, i, j);
             for r in 0..3 {
                 m[(r0 + r, k)] = sign * v[r];
             }
