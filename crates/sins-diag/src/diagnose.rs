@@ -290,20 +290,22 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         .filter(|&i| ranked[i].regression.is_some() && ranked[i].report.p_value < cfg.alpha)
         .collect();
     by_drop.sort_by(|&a, &b| ranked[b].report.dchi2.total_cmp(&ranked[a].report.dchi2));
-    let targets: Vec<usize> = by_drop
-        .into_iter()
-        .take(cfg.refine_top)
-        .filter(|&i| {
-            !ranked[i].report.residual.consistent || cfg.refine_kinds().contains(&ranked[i].kind)
-        })
-        .collect();
-    let mut refinements: Vec<Refinement> = Vec::new();
     // The best residual chi-square of a deterministic candidate so far.
     let mut best_residual = ranked
         .iter()
         .filter(|e| e.regression.is_some())
         .map(|e| ctx.chi0 - e.report.dchi2)
         .fold(f64::INFINITY, f64::min);
+    let best_linear = best_residual;
+    let targets: Vec<usize> = by_drop
+        .into_iter()
+        .take(cfg.refine_top)
+        .filter(|&i| {
+            !ranked[i].report.residual.consistent || cfg.refine_kinds().contains(&ranked[i].kind)
+        })
+        .filter(|&i| ctx.chi0 - ranked[i].report.dchi2 <= cfg.refine_within * best_linear)
+        .collect();
+    let mut refinements: Vec<Refinement> = Vec::new();
     for i in targets {
         let Some((l, rf)) = ranked[i].regression.clone() else {
             continue;

@@ -101,6 +101,10 @@ pub struct DiagnoseConfig {
     /// times the best residual so far (linear or refined, over the deterministic candidates):
     /// such a candidate cannot come close to the leader, so further steps only cost time.
     pub refine_competitive: f64,
+    /// Only candidates whose linear residual chi-square is within this factor of the best
+    /// linear residual are refined (a candidate a hundred times worse than another before
+    /// refinement is not a rival of the leader; each refinement costs passes over every run).
+    pub refine_within: f64,
     /// Worker threads (runs are processed in parallel; results do not depend on it).
     pub threads: usize,
 }
@@ -124,6 +128,7 @@ impl Default for DiagnoseConfig {
             refine_top: 3,
             refine_steps: 3,
             refine_competitive: 10.0,
+            refine_within: 100.0,
             threads: 2,
         }
     }
