@@ -19,12 +19,14 @@
 
 use crate::error::DiagError;
 use crate::noise::NoiseSpec;
+use crate::replay::sample_context;
 use crate::sensitivity::{ColumnId, RunSensitivity};
 use crate::source::SampleSource;
 use crate::temperature::TemperatureSeries;
+use sins_harness::pipeline::calibration_filter;
 use sins_imu::effects::{ContextTracker, EffectContext, ExtraEffect};
 use sins_imu::{Compensator, EffectKind, EffectSpec, ImuErrorParams, ImuSample};
-use sins_kf::{CalibrationConfig, CalibrationFilter, FilterNoise, params_to_vec};
+use sins_kf::{CalibrationFilter, FilterNoise, params_to_vec};
 use sins_nav::Geodetic;
 
 /// Size of the finite-difference perturbation, in multiples of the kind's typical magnitude.
@@ -110,19 +112,23 @@ pub fn absorption(
     let h = source.sample_interval_s();
     let model = params.model;
     let filter_err = |e: sins_kf::CalibrationError| DiagError::input(run, e.to_string());
+    let filter_noise = FilterNoise::from_sensor(
+        noise.gyro_arw_rad_per_sqrt_s,
+        noise.gyro_bias.sigma,
+        noise.gyro_bias.correlation_s,
+        noise.accel_vrw_mps_per_sqrt_s,
+        noise.accel_bias.sigma,
+        noise.accel_bias.correlation_s,
+    );
     let new_filter = || {
-        let mut config = CalibrationConfig::new(model, h, *site);
-        config.noise = FilterNoise::from_sensor(
-            noise.gyro_arw_rad_per_sqrt_s,
-            noise.gyro_bias.sigma,
-            noise.gyro_bias.correlation_s,
-            noise.accel_vrw_mps_per_sqrt_s,
-            noise.accel_bias.sigma,
-            noise.accel_bias.correlation_s,
-        );
-        let mut initial = ImuErrorParams::ideal(model);
-        initial.reference_temperature_degc = params.reference_temperature_degc;
-        CalibrationFilter::new(config, initial).map_err(filter_err)
+        calibration_filter(
+            model,
+            h,
+            *site,
+            filter_noise,
+            params.reference_temperature_degc,
+        )
+        .map_err(filter_err)
     };
     let mut arms = vec![Arm {
         effect: None,
@@ -148,14 +154,7 @@ pub fn absorption(
     source.visit(&mut |samples: &[ImuSample], _| {
         ctxs.clear();
         for s in samples {
-            ctxs.push(tracker.next(
-                s.t_s,
-                h,
-                comp.dtheta_rad(&s.dtheta_rad, h),
-                comp.dv_mps(&s.dv_mps, h, &s.temp_degc),
-                s.temp_degc,
-                temps.rate_at(s.t_s - 0.5 * h),
-            ));
+            ctxs.push(sample_context(&mut tracker, &comp, s, h, temps));
         }
         let per = arms.len().div_ceil(threads);
         let ctxs = &ctxs;

@@ -6,8 +6,8 @@ use crate::error::DiagError;
 use crate::source::SampleSource;
 use crate::temperature::TemperatureSeries;
 use sins_harness::replay_setup::{ReplayOptions, StartMode, VerticalMode, build_replay};
-use sins_imu::effects::{ContextTracker, ExtraEffect};
-use sins_imu::{Compensator, ImuErrorParams};
+use sins_imu::effects::{ContextTracker, EffectContext, ExtraEffect};
+use sins_imu::{Compensator, ImuErrorParams, ImuSample};
 use sins_nav::alignment::AlignmentConfig;
 use sins_nav::reconstruct::ReconstructConfig;
 use sins_nav::{ConingOrder, Geodetic, StrapdownConfig, VerticalChannel};
@@ -124,14 +124,7 @@ fn replay_impl(
             temps.push(s, h);
             match correction.as_mut() {
                 Some((effect, series)) => {
-                    let ctx = tracker.next(
-                        s.t_s,
-                        h,
-                        comp.dtheta_rad(&s.dtheta_rad, h),
-                        comp.dv_mps(&s.dv_mps, h, &s.temp_degc),
-                        s.temp_degc,
-                        series.rate_at(s.t_s - 0.5 * h),
-                    );
+                    let ctx = sample_context(&mut tracker, &comp, s, h, series);
                     let (p_theta, p_v) = effect.perturbation(&ctx);
                     let mut c = *s;
                     c.dtheta_rad -= p_theta;
@@ -150,6 +143,26 @@ fn replay_impl(
         temperatures: temps,
         summary: Some(summary),
     })
+}
+
+/// The effect context of raw sample `s` (interval `h`): its compensated increments as the true
+/// motion, its thermometer readings and the smoothed temperature rate of `temps` at the middle
+/// of the sample.
+pub(crate) fn sample_context(
+    tracker: &mut ContextTracker,
+    comp: &Compensator,
+    s: &ImuSample,
+    h: f64,
+    temps: &TemperatureSeries,
+) -> EffectContext {
+    tracker.next(
+        s.t_s,
+        h,
+        comp.dtheta_rad(&s.dtheta_rad, h),
+        comp.dv_mps(&s.dv_mps, h, &s.temp_degc),
+        s.temp_degc,
+        temps.rate_at(s.t_s - 0.5 * h),
+    )
 }
 
 /// The temperature series of a run alone (a cheap pass), for tracks replayed elsewhere.

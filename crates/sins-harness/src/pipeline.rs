@@ -7,7 +7,9 @@ use crate::HarnessError;
 use crate::replay_setup::{ReplayOptions, build_replay};
 use crate::segments::{SegmentStretch, stretches};
 use sins_imu::{ImuErrorParams, ImuSample, ParamModel};
-use sins_kf::{CalibrationConfig, CalibrationFilter, CalibrationResult, FilterNoise};
+use sins_kf::{
+    CalibrationConfig, CalibrationError, CalibrationFilter, CalibrationResult, FilterNoise,
+};
 use sins_nav::{Geodetic, Quat};
 use sins_replay::{ErrorPoint, Replay, ReplaySummary};
 use sins_sim::{NoiseModel, Scenario, Simulator};
@@ -227,6 +229,23 @@ pub fn filter_noise_for(noise: &NoiseModel) -> FilterNoise {
     )
 }
 
+/// The system-level calibration filter of `model` for samples of `sample_interval_s` (s) at
+/// `site`, with process noise `noise`, starting from the ideal IMU, its temperature terms
+/// referred to `reference_temperature_degc` (the set-up of `sinsbench calibrate`).
+pub fn calibration_filter(
+    model: ParamModel,
+    sample_interval_s: f64,
+    site: Geodetic,
+    noise: FilterNoise,
+    reference_temperature_degc: f64,
+) -> Result<CalibrationFilter, CalibrationError> {
+    let mut config = CalibrationConfig::new(model, sample_interval_s, site);
+    config.noise = noise;
+    let mut initial = ImuErrorParams::ideal(model);
+    initial.reference_temperature_degc = reference_temperature_degc;
+    CalibrationFilter::new(config, initial)
+}
+
 /// Simulate a calibration run once and calibrate it with one filter per entry of `models`
 /// (30- and/or 42-state), without files. The filters' noise is the scenario's noise model; the
 /// temperature terms are referred to `reference_temperature_degc`. Results in the order of
@@ -252,14 +271,15 @@ pub fn simulate_and_calibrate(
         })?;
     let mut filters = Vec::with_capacity(models.len());
     for &model in models {
-        let mut config = CalibrationConfig::new(model, sim.sample_interval_s(), scenario.site);
-        config.noise = filter_noise_for(&scenario.noise);
-        let mut initial = ImuErrorParams::ideal(model);
-        initial.reference_temperature_degc = reference_temperature_degc;
-        filters.push((
+        let filter = calibration_filter(
             model,
-            CalibrationFilter::new(config, initial).map_err(cal_err(model))?,
-        ));
+            sim.sample_interval_s(),
+            scenario.site,
+            filter_noise_for(&scenario.noise),
+            reference_temperature_degc,
+        )
+        .map_err(cal_err(model))?;
+        filters.push((model, filter));
     }
     sim.run(SIM_BATCH, |b| {
         for (model, filter) in &mut filters {

@@ -24,4 +24,4 @@ pub use error::ReportError;
 pub use markdown::render_markdown;
 pub use output::{ReportFiles, write_dir_atomically, write_report};
 pub use run::{Progress, ReportRun, ResolvedSet, run_report};
-pub use simulate::{dataset_meta, simulate_to_dataset};
+pub use simulate::{dataset_meta, simulate_to_dataset, simulate_to_dataset_with};

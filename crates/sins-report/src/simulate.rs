@@ -3,6 +3,7 @@
 
 use crate::{Progress, ReportError};
 use sins_data::{ColumnSet, DatasetMeta, DatasetWriter, ReferenceRow, SampleBatch, WriteSummary};
+use sins_imu::ImuSample;
 use sins_nav::attitude::euler_from_ned_from_body;
 use sins_sim::{Scenario, SimBatch, Simulator};
 use std::path::Path;
@@ -37,6 +38,18 @@ pub fn simulate_to_dataset(
     file: &Path,
     progress: &mut dyn Progress,
 ) -> Result<WriteSummary, ReportError> {
+    simulate_to_dataset_with(experiment, scenario, file, progress, &mut |_| Ok(()))
+}
+
+/// [`simulate_to_dataset`], also handing every batch of samples to `also` as it is written
+/// (e.g. a calibration filter, so that a run is simulated once for both).
+pub fn simulate_to_dataset_with(
+    experiment: &str,
+    scenario: &Scenario,
+    file: &Path,
+    progress: &mut dyn Progress,
+    also: &mut dyn FnMut(&[ImuSample]) -> Result<(), ReportError>,
+) -> Result<WriteSummary, ReportError> {
     let mut sim = Simulator::from_scenario(scenario).map_err(|source| {
         ReportError::Harness(sins_harness::HarnessError::Simulation {
             run: scenario.name.clone(),
@@ -62,6 +75,7 @@ pub fn simulate_to_dataset(
     sim.run(65_536, |b: &SimBatch| -> Result<(), ReportError> {
         to_sample_batch(b, &label_of_segment, &mut batch);
         writer.write_batch(&batch)?;
+        also(&b.samples)?;
         progress.advance(b.samples.len() as u64);
         Ok(())
     })?;

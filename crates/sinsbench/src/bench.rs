@@ -191,23 +191,16 @@ fn gap_set(dir: &Path, exp: &Path) -> Result<()> {
     std::fs::create_dir_all(&gap_dir)?;
     let effects = gap_dir.join("effect.toml");
     std::fs::write(&effects, GAP_EFFECT)?;
-    let cal_exp = exp.join("paper_truth_calibration.toml");
-    child(&[
-        "simulate",
-        &p(&cal_exp),
-        "--effects",
-        &p(&effects),
-        "--out",
-        &p(&gap_dir),
-    ])?;
-    let mut sim = vec![
-        "simulate".to_string(),
-        p(&exp.join("paper_navigation.toml")),
-    ];
-    for a in ["--effects", &p(&effects), "--out", &p(&gap_dir)] {
-        sim.push(a.to_string());
+    for experiment in ["paper_truth_calibration.toml", "paper_navigation.toml"] {
+        child(&[
+            "simulate",
+            &p(&exp.join(experiment)),
+            "--effects",
+            &p(&effects),
+            "--out",
+            &p(&gap_dir),
+        ])?;
     }
-    child(&sim.iter().map(String::as_str).collect::<Vec<_>>())?;
     let cal = gap_dir.join("truth_cal1.parquet");
     let params = gap_dir.join("cal1_42.toml");
     child(&[

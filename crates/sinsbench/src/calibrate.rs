@@ -5,10 +5,9 @@ use anyhow::{Context, Result, bail};
 use polars::prelude::{Column, DataFrame};
 use sins_config::{ParamSet, coefficient_table, write_params};
 use sins_data::DatasetReader;
-use sins_imu::{ImuErrorParams, ParamModel};
-use sins_kf::{
-    CalibrationConfig, CalibrationFilter, CalibrationResult, FilterNoise, params_from_vec,
-};
+use sins_harness::pipeline::calibration_filter;
+use sins_imu::ParamModel;
+use sins_kf::{CalibrationResult, FilterNoise, params_from_vec};
 use sins_nav::{DEG_PER_H, UG};
 use sins_sim::noise::gauss_markov_sigma_from_allan;
 use std::path::{Path, PathBuf};
@@ -73,8 +72,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         );
     }
     sins_config::ParamFormat::from_path(&args.out)?;
-    let mut config = CalibrationConfig::new(model, info.meta.sample_interval_s(), info.meta.site);
-    config.noise = FilterNoise::from_sensor(
+    let noise = FilterNoise::from_sensor(
         args.gyro_arw_deg_per_sqrt_h * sins_nav::DEG / 60.0,
         gauss_markov_sigma_from_allan(args.gyro_bias_instability_deg_per_h * DEG_PER_H),
         3600.0,
@@ -82,9 +80,13 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         gauss_markov_sigma_from_allan(args.accel_bias_instability_ug * UG),
         3600.0,
     );
-    let mut initial = ImuErrorParams::ideal(model);
-    initial.reference_temperature_degc = args.reference_temperature_degc;
-    let mut filter = CalibrationFilter::new(config, initial)?;
+    let mut filter = calibration_filter(
+        model,
+        info.meta.sample_interval_s(),
+        info.meta.site,
+        noise,
+        args.reference_temperature_degc,
+    )?;
     let pb = progress::bar(info.n_rows, "calibrate", quiet);
     while let Some(batch) = reader.next_batch()? {
         for s in &batch.samples {

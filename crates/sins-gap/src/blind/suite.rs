@@ -10,9 +10,10 @@ use sins_config::load_experiment;
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::noise::NoiseSpec;
 use sins_diag::report::Diagnosis;
-use sins_harness::pipeline::simulate_and_calibrate;
+use sins_harness::HarnessError;
+use sins_harness::pipeline::{calibration_filter, filter_noise_for};
 use sins_imu::ParamModel;
-use sins_report::{Progress, simulate_to_dataset};
+use sins_report::{Progress, simulate_to_dataset, simulate_to_dataset_with};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -83,22 +84,31 @@ fn generate(
         .ok_or_else(|| GapError::Invalid("the calibration experiment has no run".into()))?;
     cal.seed = answer.seed;
     cal.effects.extend(effect.clone());
-    let reference = cal.truth.reference_temperature_degc;
-    progress.begin(
-        &format!("{}: calibrate", answer.case),
-        sins_harness::pipeline::scenario_samples(&cal)?,
-    );
-    let result = simulate_and_calibrate(&cal, &[ParamModel::States42], reference, &mut |n| {
-        progress.advance(n)
-    })?
-    .pop()
-    .ok_or_else(|| GapError::Invalid("no calibration result".into()))?;
-    progress.end();
     std::fs::create_dir_all(dir).map_err(|e| GapError::io(dir, e))?;
-    // The same calibration run as a file (the same seed gives the same samples): the diagnosis
-    // replays it too and measures from it how the calibration absorbed the effect.
+    // The calibration run, simulated once: written as a file (the diagnosis replays it and
+    // measures from it how the calibration absorbed the effect) and fed to the 42-state filter.
+    let model = ParamModel::States42;
+    let cal_err = |source| HarnessError::Calibration {
+        run: cal.name.clone(),
+        states: model.n_states(),
+        source,
+    };
+    let mut filter = calibration_filter(
+        model,
+        1.0 / cal.rate_hz,
+        cal.site,
+        filter_noise_for(&cal.noise),
+        cal.truth.reference_temperature_degc,
+    )
+    .map_err(cal_err)?;
     let cal_file = dir.join(format!("{CALIBRATION_RUN}.parquet"));
-    simulate_to_dataset(&cal_exp.name, &cal, &cal_file, progress)?;
+    simulate_to_dataset_with(&cal_exp.name, &cal, &cal_file, progress, &mut |samples| {
+        for s in samples {
+            filter.push(s).map_err(cal_err)?;
+        }
+        Ok(())
+    })?;
+    let result = filter.finish().map_err(cal_err)?;
     let mut datasets = vec![(CALIBRATION_RUN.to_string(), cal_file)];
     for (i, sc) in nav_exp.scenarios.iter().enumerate() {
         if !cfg.navigation_runs.is_empty() && !cfg.navigation_runs.contains(&sc.name) {
