@@ -27,7 +27,8 @@ pub struct CaseGrade {
     pub within_3_sigma: Option<bool>,
     /// Systematic gap shrinkage on withheld runs when the hidden kind was identified (%,
     /// mean over the withheld runs): the part of the gap beyond the twin's spread that the
-    /// fitted effect removes (`ValidationReport::systematic_shrinkage_percent`).
+    /// fitted effect removes (`ValidationReport::systematic_shrinkage_percent`), over the
+    /// withheld runs that have a systematic gap (none: `None`).
     pub shrinkage_percent: Option<f64>,
     /// RMS gap shrinkage on the same runs (%), diluted by the noise the twin already predicts.
     pub rms_shrinkage_percent: Option<f64>,
@@ -115,10 +116,12 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
             .iter()
             .filter(|v| right && identified.as_deref() == Some(v.kind.as_str()))
             .collect();
-        let mean = |f: &dyn Fn(&sins_diag::report::ValidationReport) -> f64| {
-            (!named.is_empty())
-                .then(|| named.iter().map(|v| f(v)).sum::<f64>() / named.len() as f64)
-        };
+        let mean =
+            |f: &dyn Fn(&sins_diag::report::ValidationReport) -> f64,
+             over: &dyn Fn(&sins_diag::report::ValidationReport) -> bool| {
+                let v: Vec<f64> = named.iter().filter(|v| over(v)).map(|v| f(v)).collect();
+                (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+            };
         out.push(CaseGrade {
             answer: a.clone(),
             outcome,
@@ -127,8 +130,11 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
             above_detectable,
             fitted,
             within_3_sigma,
-            shrinkage_percent: mean(&|v| v.systematic_shrinkage_percent),
-            rms_shrinkage_percent: mean(&|v| v.rms_shrinkage_percent),
+            // A withheld run without a systematic gap has nothing to shrink (0/0).
+            shrinkage_percent: mean(&|v| v.systematic_shrinkage_percent, &|v| {
+                v.systematic_before > 0.0
+            }),
+            rms_shrinkage_percent: mean(&|v| v.rms_shrinkage_percent, &|_| true),
         });
     }
     let inside = |g: &&CaseGrade| g.answer.hidden.as_ref().is_some_and(|h| h.in_catalogue);
@@ -207,31 +213,31 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
         "Manifests sealed before the diagnoses ran: suite SHA-256 `{suite_sha256}`; every manifest matched its sealed hash when opened.\n"
     );
     let _ = writeln!(md, "| figure | result | target |\n|---|---|---|");
-    let _ = writeln!(
-        md,
-        "| top-1 identification, in-catalogue cases above the detectable level | {} | ≥ 90 % |",
-        frac(g.top1)
-    );
-    let _ = writeln!(
-        md,
-        "| false alarms on null cases | {} | ≤ 1 in 5 |",
-        frac(g.false_alarms)
-    );
-    let _ = writeln!(
-        md,
-        "| out-of-catalogue cases reported unexplained | {} | ≥ 2 in 3 |",
-        frac(g.out_of_catalogue_unexplained)
-    );
-    let _ = writeln!(
-        md,
-        "| ... of those that left a significant gap | {} | ≥ 2 in 3 |",
-        frac(g.out_of_catalogue_unexplained_with_gap)
-    );
-    let _ = writeln!(
-        md,
-        "| fitted magnitudes within 3 sigma of the hidden truth | {} | all |",
-        frac(g.magnitudes_within_3_sigma)
-    );
+    for (figure, counts, target) in [
+        (
+            "top-1 identification, in-catalogue cases above the detectable level",
+            g.top1,
+            "≥ 90 %",
+        ),
+        ("false alarms on null cases", g.false_alarms, "≤ 1 in 5"),
+        (
+            "out-of-catalogue cases reported unexplained",
+            g.out_of_catalogue_unexplained,
+            "≥ 2 in 3",
+        ),
+        (
+            "... of those that left a significant gap",
+            g.out_of_catalogue_unexplained_with_gap,
+            "≥ 2 in 3",
+        ),
+        (
+            "fitted magnitudes within 3 sigma of the hidden truth",
+            g.magnitudes_within_3_sigma,
+            "all",
+        ),
+    ] {
+        let _ = writeln!(md, "| {figure} | {} | {target} |", frac(counts));
+    }
     let _ = writeln!(
         md,
         "| median gap shrinkage on withheld runs, systematic (RMS) | {} ({}) | ≥ 80 % |\n",
@@ -389,6 +395,36 @@ mod tests {
             series: vec![],
             notes: vec![],
         }
+    }
+
+    #[test]
+    fn withheld_runs_without_a_systematic_gap_do_not_count_as_zero_shrinkage() {
+        let by = Verdict::Explained {
+            by: "gyro_bias_temp".into(),
+        };
+        let mut d = diagnosis(by, Some(("gyro_bias_temp", 2.1, 0.1, 0.5)));
+        let mut quiet = d.validation[0].clone();
+        quiet.systematic_before = 0.0;
+        quiet.systematic_after = 0.0;
+        quiet.systematic_shrinkage_percent = 0.0;
+        quiet.rms_shrinkage_percent = 10.0;
+        d.validation.push(quiet.clone());
+        let a = answer("c1", Some(("gyro_bias_temp", true, 2.0)));
+        let g = grade(&[(a.clone(), d)]);
+        // 90 % on the run with a systematic gap; the quiet run counts for RMS only.
+        assert_eq!(g.cases[0].shrinkage_percent, Some(90.0));
+        assert_eq!(g.cases[0].rms_shrinkage_percent, Some(25.0));
+        // Only quiet runs: no systematic figure at all.
+        let mut only_quiet = diagnosis(
+            Verdict::Explained {
+                by: "gyro_bias_temp".into(),
+            },
+            Some(("gyro_bias_temp", 2.1, 0.1, 0.5)),
+        );
+        only_quiet.validation = vec![quiet];
+        let g = grade(&[(a, only_quiet)]);
+        assert_eq!(g.cases[0].shrinkage_percent, None);
+        assert_eq!(g.median_shrinkage_percent, None);
     }
 
     fn answer(case: &str, kind: Option<(&str, bool, f64)>) -> CaseAnswer {
