@@ -73,11 +73,46 @@ impl Absorption {
         }
         sins_kf::params_from_vec(&theta, model, params.reference_temperature_degc)
     }
+
+    /// [`Absorption::without`] through the filter itself instead of `J`: `params` moved by
+    /// `θ̂(−m) − θ̂(0)`, the recalibration of `cal` with `kind`'s SI magnitudes `values`
+    /// removed from every sample against its recalibration as recorded. Exact where the
+    /// calibration responds nonlinearly to a large effect (a time offset of several ms under
+    /// the scheme's rotations); one filter pass over the run.
+    pub fn without_exact(
+        &self,
+        cal: CalibrationRun<'_>,
+        params: &ImuErrorParams,
+        noise: &NoiseSpec,
+        kind: EffectKind,
+        values: &[f64],
+    ) -> Result<ImuErrorParams, DiagError> {
+        let negated: Vec<f64> = values.iter().map(|v| -v).collect();
+        let spec = EffectSpec::zero(kind)
+            .with_magnitudes_si(&negated)
+            .ok_or_else(|| {
+                DiagError::input(&self.run, format!("{}: bad magnitudes", kind.name()))
+            })?;
+        let theta_without = recalibrate(cal, params, noise, &[Some(spec)], 1)?
+            .pop()
+            .ok_or_else(|| DiagError::Numerical("no recalibration".into()))?;
+        let model = params.model;
+        let theta: Vec<f64> = params_to_vec(params, model)
+            .iter()
+            .zip(theta_without.iter().zip(&self.recalibrated))
+            .map(|(g, (w, r))| g + w - r)
+            .collect();
+        Ok(sins_kf::params_from_vec(
+            &theta,
+            model,
+            params.reference_temperature_degc,
+        ))
+    }
 }
 
 /// One filter fed with the run plus one perturbation.
 struct Arm {
-    effect: Option<(Box<dyn ExtraEffect>, f64)>,
+    effect: Option<Box<dyn ExtraEffect>>,
     filter: CalibrationFilter,
 }
 
@@ -93,16 +128,18 @@ pub struct CalibrationRun<'a> {
     pub temps: &'a TemperatureSeries,
 }
 
-/// Measure the absorption on calibration run `cal` for `components`, with the filter of
-/// `params.model` referred to `params`' reference temperature and driven by the twin's `noise`.
-/// `threads` filters run at once (the result does not depend on it).
-pub fn absorption(
+/// Recalibrate calibration run `cal` once per entry of `perturbations` (`None`: as recorded;
+/// `Some(spec)`: with `spec`'s perturbation added to every sample), with the filter of
+/// `params.model` referred to `params`' reference temperature and driven by the twin's `noise`;
+/// the estimates in eq 8 order (SI). One pass over the data feeds every filter, `threads` at
+/// once (the result does not depend on it).
+pub fn recalibrate(
     cal: CalibrationRun<'_>,
     params: &ImuErrorParams,
     noise: &NoiseSpec,
-    components: &[(EffectKind, usize)],
+    perturbations: &[Option<EffectSpec>],
     threads: usize,
-) -> Result<Absorption, DiagError> {
+) -> Result<Vec<Vec<f64>>, DiagError> {
     let CalibrationRun {
         run,
         source,
@@ -120,30 +157,18 @@ pub fn absorption(
         noise.accel_bias.sigma,
         noise.accel_bias.correlation_s,
     );
-    let new_filter = || {
-        calibration_filter(
-            model,
-            h,
-            *site,
-            filter_noise,
-            params.reference_temperature_degc,
-        )
-        .map_err(filter_err)
-    };
-    let mut arms = vec![Arm {
-        effect: None,
-        filter: new_filter()?,
-    }];
-    for &(kind, c) in components {
-        let step = STEP_TIMES_TYPICAL * kind.typical_magnitude_si();
-        let mut values = vec![0.0; kind.n_components()];
-        values[c] = step;
-        let spec = EffectSpec::zero(kind)
-            .with_magnitudes_si(&values)
-            .ok_or_else(|| DiagError::input(run, format!("{}: bad component {c}", kind.name())))?;
+    let mut arms = Vec::with_capacity(perturbations.len());
+    for p in perturbations {
         arms.push(Arm {
-            effect: Some((spec.build(params), step)),
-            filter: new_filter()?,
+            effect: p.as_ref().map(|spec| spec.build(params)),
+            filter: calibration_filter(
+                model,
+                h,
+                *site,
+                filter_noise,
+                params.reference_temperature_degc,
+            )
+            .map_err(filter_err)?,
         });
     }
     let comp = Compensator::new(*params)
@@ -156,7 +181,7 @@ pub fn absorption(
         for s in samples {
             ctxs.push(sample_context(&mut tracker, &comp, s, h, temps));
         }
-        let per = arms.len().div_ceil(threads);
+        let per = arms.len().div_ceil(threads).max(1);
         let ctxs = &ctxs;
         std::thread::scope(|scope| {
             let handles: Vec<_> = arms
@@ -170,15 +195,41 @@ pub fn absorption(
             })
         })
     })?;
-    let mut results = Vec::with_capacity(arms.len());
-    for arm in arms {
-        let step = arm.effect.as_ref().map_or(0.0, |e| e.1);
-        let r = arm.filter.finish().map_err(filter_err)?;
-        results.push((params_to_vec(&r.params, model), step));
+    arms.into_iter()
+        .map(|arm| {
+            let r = arm.filter.finish().map_err(filter_err)?;
+            Ok(params_to_vec(&r.params, model))
+        })
+        .collect()
+}
+
+/// Measure the absorption on calibration run `cal` for `components` (see [`recalibrate`]):
+/// finite differences of [`STEP_TIMES_TYPICAL`] typical magnitudes against the run as recorded.
+pub fn absorption(
+    cal: CalibrationRun<'_>,
+    params: &ImuErrorParams,
+    noise: &NoiseSpec,
+    components: &[(EffectKind, usize)],
+    threads: usize,
+) -> Result<Absorption, DiagError> {
+    let run = cal.run.to_string();
+    let mut perturbations = vec![None];
+    let mut steps = Vec::with_capacity(components.len());
+    for &(kind, c) in components {
+        let step = STEP_TIMES_TYPICAL * kind.typical_magnitude_si();
+        let mut values = vec![0.0; kind.n_components()];
+        values[c] = step;
+        let spec = EffectSpec::zero(kind)
+            .with_magnitudes_si(&values)
+            .ok_or_else(|| DiagError::input(&run, format!("{}: bad component {c}", kind.name())))?;
+        perturbations.push(Some(spec));
+        steps.push(step);
     }
-    let (base, _) = results.remove(0);
+    let mut results = recalibrate(cal, params, noise, &perturbations, threads)?;
+    let base = results.remove(0);
     let jacobian = results
         .iter()
+        .zip(&steps)
         .map(|(theta, step)| {
             theta
                 .iter()
@@ -188,7 +239,7 @@ pub fn absorption(
         })
         .collect();
     Ok(Absorption {
-        run: run.to_string(),
+        run,
         components: components.to_vec(),
         jacobian,
         recalibrated: base,
@@ -200,7 +251,7 @@ fn feed(arms: &mut [Arm], samples: &[ImuSample], ctxs: &[EffectContext]) -> Resu
     for arm in arms {
         for (s, ctx) in samples.iter().zip(ctxs) {
             let mut x = *s;
-            if let Some((effect, _)) = arm.effect.as_mut() {
+            if let Some(effect) = arm.effect.as_mut() {
                 let (p_theta, p_v) = effect.perturbation(ctx);
                 x.dtheta_rad += p_theta;
                 x.dv_mps += p_v;

@@ -5,14 +5,12 @@
 //!   chi-square drop of at least `z_keep²`; the blind question is usually "which axis"), the
 //!   chi-square drop of the retained model, its BIC improvement and a Bonferroni-corrected tail
 //!   probability over every component of the catalogue.
-//! - Random processes (bias random walks): a noise term `q V Vᵀ` added to the twin's
-//!   covariance, `q` fitted per axis by maximum likelihood; evidence `2 Δ log L` with the
-//!   boundary (`q ≥ 0`) halving the tail probability.
+//! - Random processes (bias random walks): see [`crate::walk`].
 
 use crate::gls::Fit;
 use crate::problem::Problem;
 use crate::stats::chi2_isf;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 /// A deterministic candidate's fit.
 #[derive(Clone, Debug)]
@@ -101,147 +99,4 @@ pub fn select(a: &DMatrix<f64>, first: usize, which: &[usize]) -> DMatrix<f64> {
 /// tail probability `p_single`, for a one-sigma `sigma`.
 pub fn detectable(sigma: f64, p_single: f64) -> f64 {
     (chi2_isf(p_single, 1.0).sqrt() + 1.281_551_565_545) * sigma
-}
-
-/// A random-walk candidate's fit on one bias axis.
-#[derive(Clone, Debug)]
-pub struct WalkFit {
-    /// Fitted intensity (SI, rad/s/√s or m/s²/√s).
-    pub intensity: f64,
-    /// Its one-sigma from the likelihood (half the width of the `Δ(-2 log L) = 1` interval).
-    pub sigma: f64,
-    /// `2 (log L(q̂) - log L(0))`.
-    pub dchi2: f64,
-    /// `gᵀ S(q̂)⁻¹ g`: the residual chi-square with the noise term.
-    pub residual_chi2: f64,
-}
-
-/// Likelihood of the gap with a noise term `q V Vᵀ` (whitened factor `v`) added.
-struct WalkLikelihood {
-    uu: DMatrix<f64>,
-    uv: DMatrix<f64>,
-    vv: DMatrix<f64>,
-    ug: DVector<f64>,
-    vg: DVector<f64>,
-    gg: f64,
-}
-
-impl WalkLikelihood {
-    fn new(p: &Problem, v: &DMatrix<f64>) -> Self {
-        let g = &p.gls.g;
-        Self {
-            uu: p.u.transpose() * &p.u,
-            uv: p.u.transpose() * v,
-            vv: v.transpose() * v,
-            ug: p.u.transpose() * g,
-            vg: v.transpose() * g,
-            gg: g.dot(g),
-        }
-    }
-
-    /// `-2 log L(q)` up to a constant common to every `q`.
-    fn m2ll(&self, a: f64) -> f64 {
-        self.eval(a).0
-    }
-
-    /// `(-2 log L(q), gᵀ S(q)⁻¹ g)` with `q = a²`.
-    fn eval(&self, a: f64) -> (f64, f64) {
-        let (np, nv) = (self.uu.nrows(), self.vv.nrows());
-        let q = a * a;
-        let mut m = DMatrix::<f64>::identity(np + nv, np + nv);
-        let mut top = m.view_mut((0, 0), (np, np));
-        top += &self.uu;
-        m.view_mut((0, np), (np, nv)).copy_from(&(&self.uv * a));
-        m.view_mut((np, 0), (nv, np))
-            .copy_from(&(self.uv.transpose() * a));
-        let mut bottom = m.view_mut((np, np), (nv, nv));
-        bottom += &self.vv * q;
-        let mut b = DVector::zeros(np + nv);
-        b.rows_mut(0, np).copy_from(&self.ug);
-        b.rows_mut(np, nv).copy_from(&(&self.vg * a));
-        // I + a PSD matrix: positive definite unless the data hold NaN.
-        match m.cholesky() {
-            Some(c) => {
-                let logdet: f64 = c.l().diagonal().iter().map(|d| 2.0 * d.ln()).sum();
-                let x = c.solve(&b);
-                let quad = self.gg - b.dot(&x);
-                (logdet + quad, quad)
-            }
-            None => (f64::INFINITY, f64::INFINITY),
-        }
-    }
-}
-
-/// Maximum-likelihood intensity of a random walk with whitened factor `v`; `typical` (SI)
-/// sets the search range (1e-5 to 1e3 times it).
-pub fn fit_walk(p: &Problem, v: &DMatrix<f64>, typical: f64) -> WalkFit {
-    let lik = WalkLikelihood::new(p, v);
-    let f0 = lik.m2ll(0.0);
-    let grid: Vec<f64> = (-20..=12)
-        .map(|k| typical * 10f64.powf(k as f64 / 4.0))
-        .collect();
-    let vals: Vec<f64> = grid.iter().map(|&a| lik.m2ll(a)).collect();
-    let (kbest, &fbest) = vals
-        .iter()
-        .enumerate()
-        .min_by(|a, b| a.1.total_cmp(b.1))
-        .unwrap_or((0, &f0));
-    if fbest >= f0 {
-        // The maximum is at q = 0: sigma from where -2 log L has risen by 1.
-        let up = grid
-            .iter()
-            .zip(&vals)
-            .find(|(_, f)| **f > f0 + 1.0)
-            .map_or(grid[grid.len() - 1], |(a, _)| *a);
-        return WalkFit {
-            intensity: 0.0,
-            sigma: up,
-            dchi2: 0.0,
-            residual_chi2: lik.eval(0.0).1,
-        };
-    }
-    // Golden section in log a around the best grid point.
-    let (mut lo, mut hi) = (
-        grid[kbest.saturating_sub(1)].ln(),
-        grid[(kbest + 1).min(grid.len() - 1)].ln(),
-    );
-    let r = 0.618_033_988_749_895;
-    for _ in 0..40 {
-        let (x1, x2) = (hi - r * (hi - lo), lo + r * (hi - lo));
-        if lik.m2ll(x1.exp()) < lik.m2ll(x2.exp()) {
-            hi = x2;
-        } else {
-            lo = x1;
-        }
-    }
-    let a_hat = (0.5 * (lo + hi)).exp();
-    let f_hat = lik.m2ll(a_hat);
-    // One-sigma interval: -2 log L = f_hat + 1 on either side (bisection in a).
-    let cross = |mut inside: f64, mut outside: f64| {
-        for _ in 0..60 {
-            let mid = 0.5 * (inside + outside);
-            if lik.m2ll(mid) < f_hat + 1.0 {
-                inside = mid;
-            } else {
-                outside = mid;
-            }
-        }
-        0.5 * (inside + outside)
-    };
-    let lower = if lik.m2ll(0.0) > f_hat + 1.0 {
-        cross(a_hat, 0.0)
-    } else {
-        0.0
-    };
-    let mut far = a_hat * 2.0;
-    while lik.m2ll(far) < f_hat + 1.0 && far < 1e6 * typical {
-        far *= 2.0;
-    }
-    let upper = cross(a_hat, far);
-    WalkFit {
-        intensity: a_hat,
-        sigma: 0.5 * (upper - lower),
-        dchi2: (f0 - f_hat).max(0.0),
-        residual_chi2: lik.eval(a_hat).1,
-    }
 }

@@ -4,6 +4,7 @@
 
 use crate::absorb::{Absorption, CalibrationRun, absorption};
 use crate::calib::{ParamUncertainty, uncertainty};
+use crate::constancy::{Winner as ConstancyWinner, constancy};
 use crate::error::DiagError;
 use crate::input::{DiagnoseConfig, DiagnosisInput, RunData};
 use crate::localise::{GapSeries, localise};
@@ -348,6 +349,31 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         }
     }
     finish_ranking(&mut ranked, ctx.n, cfg);
+    let names: Vec<String> = input.runs.iter().map(|r| r.name.clone()).collect();
+    if let Some(best) = ranked.iter_mut().find(|e| e.report.passes)
+        && let Some((l, rf)) = &best.regression
+    {
+        let refined = refinements.iter().find(|r| r.layout.kind == l.kind);
+        let refined_problem = match refined {
+            Some(r) => Some(Problem::new(&r.data.iter().collect::<Vec<_>>())?),
+            None => None,
+        };
+        let zero = vec![0.0; rf.retained.len()];
+        let w = ConstancyWinner {
+            first: l.first,
+            retained: &rf.retained,
+            labels: l.kind.component_labels(),
+            offset: refined.map_or(&zero, |r| &r.theta_lin),
+        };
+        let residual = &best.report.residual;
+        best.report.constancy = constancy(
+            refined_problem.as_ref().unwrap_or(&problem),
+            &w,
+            &names,
+            residual.chi2 / residual.dof.max(1.0),
+            cfg.alpha,
+        );
+    }
     let verdict = verdict(&problem, &ranked, &null, cfg);
     // Localisation.
     let schuler = (sens[0].model.earth.gravity_mps2 / sens[0].model.earth.meridian_plus_h_m).sqrt();

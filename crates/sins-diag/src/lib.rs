@@ -31,7 +31,8 @@
 //! - **Fit** ([`gls`], [`problem`], [`candidates`], [`rank`]): generalised least squares of the
 //!   decimated gap, runs whitened separately and the shared calibration term by Woodbury;
 //!   deterministic candidates by GLS with forward selection of components, random walks as
-//!   noise terms with a maximum-likelihood intensity; evidence = chi-square drop (2 Δ log L),
+//!   noise terms with a maximum-likelihood intensity whose smoothed increments must pass a
+//!   whiteness test ([`walk`]: no step-like outlier, no lag-one correlation); evidence = chi-square drop (2 Δ log L),
 //!   Bonferroni-corrected tail probability and BIC; chi-square consistency tests with the
 //!   null distribution of the quadratic form (Satterthwaite) so that the floor stays a tolerance.
 //! - **Nonlinear refinement** ([`refine`]): the leading deterministic candidates whose linear
@@ -41,7 +42,8 @@
 //!   pipeline, not on an extrapolation.
 //! - **Verdict**: no significant gap / explained by X / partly explained by X / unexplained /
 //!   not separable X vs Y (signatures explaining each other in the twin's metric with evidence
-//!   within a margin).
+//!   within a margin). "Explained" needs a consistent residual and one magnitude for every run
+//!   ([`constancy`]); otherwise the winner only partly explains the gap.
 //! - **Localisation** ([`localise`]): per segment and channel, first exit from the 3-sigma
 //!   envelope, time-scale shares (secular, 24 h, Schuler, segment steps).
 //! - **Withheld validation** ([`validate`]): leave one run out (or the second half of a single
@@ -60,6 +62,7 @@ pub mod bank;
 pub mod calib;
 pub mod candidates;
 pub mod columns;
+pub mod constancy;
 pub mod diagnose;
 pub mod error;
 pub mod gls;
@@ -78,6 +81,7 @@ pub mod source;
 pub mod stats;
 pub mod temperature;
 pub mod validate;
+pub mod walk;
 
 pub use diagnose::diagnose;
 pub use error::DiagError;

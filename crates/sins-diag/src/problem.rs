@@ -173,6 +173,8 @@ pub struct Problem {
     pub whitener: Whitener,
     /// Whitened random-walk factors per bias axis (block diagonal over runs, stacked).
     pub walks: Vec<DMatrix<f64>>,
+    /// Column widths of each run's block in `walks`, per bias axis.
+    pub walk_blocks: Vec<Vec<usize>>,
     /// Whitened one-sigma calibration columns.
     pub u: DMatrix<f64>,
 }
@@ -238,12 +240,16 @@ impl Problem {
                 whitener.whiten(&out)
             })
             .collect();
+        let walk_blocks = (0..BIAS_SLOTS.len())
+            .map(|b| runs.iter().map(|r| r.walks[b].ncols()).collect())
+            .collect();
         let gls = Gls::new(g.column(0).into_owned(), u.clone(), whitener.logdet)?;
         Ok(Self {
             gls,
             a,
             whitener,
             walks,
+            walk_blocks,
             u,
         })
     }

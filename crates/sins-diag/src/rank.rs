@@ -1,10 +1,13 @@
 //! Evaluate every candidate on the stacked problem, rank them, and conclude.
 
-use crate::candidates::{RegressionFit, detectable, fit_regression, fit_walk, select};
+use crate::candidates::{RegressionFit, detectable, fit_regression, select};
 use crate::input::DiagnoseConfig;
 use crate::problem::Problem;
-use crate::report::{CandidateModel, CandidateReport, ChiSquareTest, ComponentEstimate, Verdict};
+use crate::report::{
+    CandidateModel, CandidateReport, ChiSquareTest, ComponentEstimate, Verdict, WhitenessTest,
+};
 use crate::stats::chi2_sf;
+use crate::walk::fit_walk;
 use sins_imu::EffectKind;
 
 /// Standard deviation of the plausibility prior on a candidate's magnitude, in multiples of the
@@ -160,6 +163,8 @@ pub fn regression_evaluated(
             evidence: 0.0,
             passes: false,
             residual: null.test(ctx.chi0 - dchi2, k, cfg.null_alpha),
+            whiteness: None,
+            constancy: None,
         },
         regression: Some((*l, rf)),
     }
@@ -191,7 +196,15 @@ pub fn evaluate(
     for &(kind, offset) in walks {
         let unit = kind.unit();
         let fits: Vec<_> = (0..3)
-            .map(|a| fit_walk(p, &p.walks[offset + a], kind.typical_magnitude_si()))
+            .map(|a| {
+                let b = offset + a;
+                fit_walk(
+                    p,
+                    &p.walks[b],
+                    &p.walk_blocks[b],
+                    kind.typical_magnitude_si(),
+                )
+            })
             .collect();
         let best = (0..3)
             .max_by(|&a, &b| fits[a].dchi2.total_cmp(&fits[b].dchi2))
@@ -231,6 +244,14 @@ pub fn evaluate(
                 evidence: 0.0,
                 passes: false,
                 residual: null.test(f.residual_chi2, 1, cfg.null_alpha),
+                constancy: None,
+                whiteness: f.shape.map(|w| WhitenessTest {
+                    max_abs_z: w.max_abs_z,
+                    increments: w.increments,
+                    lag1_z: w.lag1_z,
+                    p_value: w.p_value,
+                    consistent: w.p_value > cfg.null_alpha,
+                }),
             },
             regression: None,
         });
@@ -243,7 +264,8 @@ pub fn evaluate(
 /// replaced, e.g. by its nonlinear refinement). Evidence is the chi-square drop over the
 /// quasi-likelihood inflation (the best residual's chi-square over its expectation, at least
 /// 1), minus the BIC penalty and the plausibility penalty; a candidate passes when its
-/// Bonferroni p-value is below `alpha`, its ΔBIC and its evidence are positive.
+/// Bonferroni p-value is below `alpha`, its ΔBIC and its evidence are positive, and (noise
+/// terms) its increments pass the whiteness test.
 pub fn finish_ranking(out: &mut [Evaluated], n: f64, cfg: &DiagnoseConfig) {
     let inflation = out
         .iter()
@@ -254,7 +276,10 @@ pub fn finish_ranking(out: &mut [Evaluated], n: f64, cfg: &DiagnoseConfig) {
         let r = &mut e.report;
         r.plausibility_penalty = plausibility_penalty(e.kind, &r.components);
         r.evidence = r.dchi2 / inflation - r.dof as f64 * n.ln() - r.plausibility_penalty;
-        r.passes = r.p_value < cfg.alpha && r.delta_bic > 0.0 && r.evidence > 0.0;
+        r.passes = r.p_value < cfg.alpha
+            && r.delta_bic > 0.0
+            && r.evidence > 0.0
+            && r.whiteness.as_ref().is_none_or(|w| w.consistent);
     }
     out.sort_by(|a, b| {
         b.report
@@ -306,7 +331,8 @@ pub fn verdict(
             };
         }
     }
-    if best.report.residual.consistent {
+    let constant = best.report.constancy.as_ref().is_none_or(|c| c.consistent);
+    if best.report.residual.consistent && constant {
         Verdict::Explained {
             by: best.report.kind.clone(),
         }

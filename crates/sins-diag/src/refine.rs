@@ -12,7 +12,7 @@
 //! residual chi-square of a refined candidate is that of the corrected runs after the last
 //! (small) linear step: a nonlinear likelihood, not an extrapolation.
 
-use crate::absorb::Absorption;
+use crate::absorb::{Absorption, CalibrationRun};
 use crate::candidates::{RegressionFit, forward_select, select};
 use crate::diagnose::{output_columns, par_runs, track_at};
 use crate::error::DiagError;
@@ -175,9 +175,29 @@ pub fn refine(
             return Ok(best);
         };
         // The set the calibration would have identified without the effect.
-        let params = absorption.map_or(*base_setup.params, |a| {
-            a.without(base_setup.params, l.kind, &values)
-        });
+        let params = match absorption {
+            None => *base_setup.params,
+            Some(a) => {
+                let run = input
+                    .runs
+                    .iter_mut()
+                    .find(|r| r.name == a.run)
+                    .ok_or_else(|| {
+                        DiagError::input(&a.run, "calibration run not among the runs")
+                    })?;
+                let temps = run
+                    .temperatures
+                    .as_ref()
+                    .ok_or_else(|| DiagError::input(&run.name, "temperature series missing"))?;
+                let cal = CalibrationRun {
+                    run: &run.name,
+                    source: run.source.as_mut(),
+                    site: &run.site,
+                    temps,
+                };
+                a.without_exact(cal, base_setup.params, base_setup.noise, l.kind, &values)?
+            }
+        };
         let setup = SensitivitySetup {
             params: &params,
             refine: Some((l.kind, values)),

@@ -79,6 +79,59 @@ pub struct CandidateReport {
     pub passes: bool,
     /// Consistency of what is left once this candidate is added.
     pub residual: ChiSquareTest,
+    /// Noise terms: whether the fitted walk's smoothed increments look like a walk's
+    /// (`None` for regression terms and for a walk fitted at zero intensity).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub whiteness: Option<WhitenessTest>,
+    /// The winner (the best passing regression term): whether one magnitude fits every run
+    /// (`crate::constancy`; `None` for the other candidates and for a single run).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub constancy: Option<ConstancyTest>,
+}
+
+/// Constancy of a candidate's magnitude across runs: one magnitude per run against one for all.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ConstancyTest {
+    /// Chi-square drop of the per-run fit over the common fit (over the residual's inflation).
+    pub dchi2: f64,
+    /// Its degrees of freedom: retained components × (runs that see them − 1).
+    pub dof: usize,
+    /// Tail probability under a common magnitude.
+    pub p_value: f64,
+    /// True when `p_value` is above the configured level.
+    pub consistent: bool,
+    /// The strongest retained component fitted on each run with the others (candidate unit).
+    pub per_run: Vec<RunEstimate>,
+}
+
+/// One run's estimate of a component.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunEstimate {
+    /// Run name.
+    pub run: String,
+    /// Component label.
+    pub label: String,
+    /// Value (candidate unit; `None` when the run does not see the component).
+    pub value: Option<f64>,
+    /// Its one-sigma.
+    pub sigma: Option<f64>,
+}
+
+/// Whiteness test of a random-walk candidate (`crate::walk`): its smoothed increments,
+/// standardised under the fitted walk, should hold no outlier (a step) and no lag-one
+/// correlation (an oscillation, a smooth drift).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WhitenessTest {
+    /// Largest |z| of a standardised increment.
+    pub max_abs_z: f64,
+    /// Increments tested.
+    pub increments: usize,
+    /// Standardised lag-one correlation sum of neighbouring increments.
+    pub lag1_z: f64,
+    /// Tail probability of the more extreme statistic under the walk (Bonferroni).
+    pub p_value: f64,
+    /// True when `p_value` is above the configured level: the fit looks like a walk.
+    pub consistent: bool,
 }
 
 /// The conclusion.
@@ -87,12 +140,14 @@ pub struct CandidateReport {
 pub enum Verdict {
     /// The real tracks are consistent with the twin and no candidate is significant.
     NoSignificantGap,
-    /// One candidate explains the gap: significant, and the residual is consistent.
+    /// One candidate explains the gap: significant, the residual is consistent, and one
+    /// magnitude fits every run.
     Explained {
         /// Kind name.
         by: String,
     },
-    /// The best candidate is significant but the residual is still inconsistent with the twin.
+    /// The best candidate is significant but the residual is still inconsistent with the twin,
+    /// or the magnitude it needs differs from run to run (see [`ConstancyTest`]).
     PartlyExplained {
         /// Kind name.
         by: String,

@@ -31,6 +31,10 @@ pub struct Args {
     /// Keep each case's datasets (about 0.6 GB per 15 h run).
     #[arg(long)]
     pub keep_datasets: bool,
+    /// Run only these cases of the seeded draw (e.g. `--only case07,case12`): the same hidden
+    /// effects and seeds as in the whole suite, to re-examine a case; grades cover these only.
+    #[arg(long, value_delimiter = ',')]
+    pub only: Vec<String>,
 }
 
 /// Run `blind`.
@@ -49,6 +53,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         navigation_experiment: exp.join("paper_navigation.toml"),
         navigation_runs: args.runs.clone(),
         keep_datasets: args.keep_datasets,
+        only: args.only.clone(),
         diagnose: DiagnoseConfig::default(),
     };
     let mut bars = progress::Bars::new(quiet);

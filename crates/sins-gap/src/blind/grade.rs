@@ -359,6 +359,8 @@ mod tests {
                 evidence: 40.0,
                 passes: true,
                 residual: test(true),
+                whiteness: None,
+                constancy: None,
             })
             .into_iter()
             .collect();

@@ -34,6 +34,9 @@ pub struct SuiteConfig {
     pub navigation_runs: Vec<String>,
     /// Keep each case's datasets (about 0.6 GB per 15 h run) instead of deleting them.
     pub keep_datasets: bool,
+    /// Run only these cases of the draw (names such as `case07`; empty = all). The draw and
+    /// the seal are those of the whole suite; the grades cover the cases run.
+    pub only: Vec<String>,
     /// Diagnosis settings.
     pub diagnose: DiagnoseConfig,
 }
@@ -136,9 +139,21 @@ pub fn run_suite(cfg: &SuiteConfig, progress: &mut dyn Progress) -> Result<Suite
             .ok_or_else(|| GapError::Invalid("the navigation experiment has no run".into()))?
             .noise,
     );
+    if let Some(unknown) = cfg
+        .only
+        .iter()
+        .find(|c| !answers.iter().any(|a| &a.case == *c))
+    {
+        return Err(GapError::Invalid(format!(
+            "--only: no case named '{unknown}' in a suite of {} cases (case01 ... case{:02})",
+            answers.len(),
+            answers.len()
+        )));
+    }
+    let selected = |case: &str| cfg.only.is_empty() || cfg.only.iter().any(|c| c == case);
     let mut diagnoses: Vec<(String, Diagnosis)> = Vec::new();
     let mut timing = Vec::new();
-    for answer in &answers {
+    for answer in answers.iter().filter(|a| selected(&a.case)) {
         let case_dir = cfg.out.join("cases").join(&answer.case);
         let t = Instant::now();
         let (datasets, cal) = generate(cfg, answer, &case_dir.join("data"), progress)?;
@@ -171,6 +186,7 @@ pub fn run_suite(cfg: &SuiteConfig, progress: &mut dyn Progress) -> Result<Suite
     let opened = open(&cfg.out, &index)?;
     let pairs: Vec<(CaseAnswer, Diagnosis)> = opened
         .into_iter()
+        .filter(|a| selected(&a.case))
         .zip(diagnoses)
         .map(|(a, (case, d))| {
             debug_assert_eq!(a.case, case);
