@@ -41,30 +41,48 @@ pub fn track_at(points: &[ErrorPoint], t_s: f64) -> [f64; 2] {
     }
 }
 
-/// `f` on every run, `threads` runs at a time; results in run order (identical for any
-/// thread count: each run is processed alone).
+/// `f` on every run, on `threads` workers that each take the longest run not yet started
+/// (a 4 h calibration run beside two 15 h runs then costs one 15 h run plus 4 h, not two 15 h
+/// runs); results in run order, identical for any thread count (each run is processed alone).
 pub fn par_runs<T: Send>(
     runs: &mut [RunData],
     threads: usize,
     f: impl Fn(&mut RunData) -> Result<T, DiagError> + Sync,
 ) -> Result<Vec<T>, DiagError> {
-    let threads = threads.max(1);
-    let mut results: Vec<Option<Result<T, DiagError>>> = (0..runs.len()).map(|_| None).collect();
-    for (chunk_runs, chunk_out) in runs.chunks_mut(threads).zip(results.chunks_mut(threads)) {
-        std::thread::scope(|s| {
-            let f = &f;
-            let handles: Vec<_> = chunk_runs
-                .iter_mut()
-                .map(|r| s.spawn(move || f(r)))
-                .collect();
-            for (h, o) in handles.into_iter().zip(chunk_out.iter_mut()) {
-                *o = Some(h.join().unwrap_or_else(|_| {
-                    Err(DiagError::Numerical("a worker thread panicked".into()))
-                }));
-            }
-        });
+    let n = runs.len();
+    // Longest first (by the real track's span), ties in run order.
+    let span = |r: &RunData| match (r.track.first(), r.track.last()) {
+        (Some(a), Some(b)) => b.t_s - a.t_s,
+        _ => 0.0,
+    };
+    let mut queue: Vec<(usize, &mut RunData)> = runs.iter_mut().enumerate().collect();
+    queue.sort_by(|a, b| span(b.1).total_cmp(&span(a.1)).then(a.0.cmp(&b.0)));
+    queue.reverse(); // popped from the back
+    let queue = std::sync::Mutex::new(queue);
+    let results = std::sync::Mutex::new((0..n).map(|_| None).collect::<Vec<Option<_>>>());
+    let panicked = std::thread::scope(|s| {
+        let workers: Vec<_> = (0..threads.clamp(1, n.max(1)))
+            .map(|_| {
+                s.spawn(|| {
+                    loop {
+                        let next = queue.lock().ok().and_then(|mut q| q.pop());
+                        let Some((i, run)) = next else { break };
+                        let out = f(run);
+                        if let Ok(mut r) = results.lock() {
+                            r[i] = Some(out);
+                        }
+                    }
+                })
+            })
+            .collect();
+        workers.into_iter().any(|w| w.join().is_err())
+    });
+    if panicked {
+        return Err(DiagError::Numerical("a worker thread panicked".into()));
     }
     results
+        .into_inner()
+        .map_err(|_| DiagError::Numerical("a worker thread panicked".into()))?
         .into_iter()
         .map(|r| r.unwrap_or_else(|| Err(DiagError::Numerical("run not processed".into()))))
         .collect()

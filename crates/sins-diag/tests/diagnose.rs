@@ -165,3 +165,35 @@ fn hidden_gyro_temperature_coefficient_is_identified_and_validated() {
         );
     }
 }
+
+/// Runs of different lengths are handed to the workers longest first: whatever the thread
+/// count, the diagnosis is bit-identical (serialised).
+#[test]
+fn the_diagnosis_does_not_depend_on_the_thread_count() {
+    use sins_imu::EffectKind;
+    let scs: Vec<_> = [(2.0, 41), (1.5, 42), (2.5, 43)]
+        .iter()
+        .map(|&(hours, seed)| {
+            let mut sc = scenario(turning_motion(hours), 100.0, ramp_thermal(15.0, 6.0, hours));
+            sc.noise = paper_noise();
+            sc.seed = seed;
+            sc.effects = vec![effect(EffectKind::GyroBiasTemp, 2, 0.006)];
+            sc
+        })
+        .collect();
+    let truth = scs[0].truth;
+    let json: Vec<String> = [1, 2, 3]
+        .iter()
+        .map(|&threads| {
+            let mut inp = input(&scs, &truth, None);
+            let cfg = DiagnoseConfig {
+                threads,
+                ..DiagnoseConfig::default()
+            };
+            let d = diagnose(&mut inp, &cfg).expect("diagnosis");
+            serde_json::to_string(&d).expect("json")
+        })
+        .collect();
+    assert!(json[0].contains("gyro_bias_temp"));
+    assert!(json[0] == json[1] && json[1] == json[2]);
+}

@@ -272,7 +272,8 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
     let _ = writeln!(
         md,
         "- Every run is a turntable run at the fixed site of its file's metadata; the first 20 min are a stationary self-alignment; errors are horizontal position errors against the site.\n\
-         - The twin is the calibrated parameter set with the given noise model; candidate effects are linearised about zero.\n\
+         - The twin is the calibrated parameter set with the given noise model; candidate effects are linearised about zero (about the refined estimate for refined candidates).\n\
+         - Limits: an effect outside the catalogue that leaves the same signature as a candidate, with one magnitude in every run, is reported as that candidate (runs with different motions and temperature profiles sharpen the constancy test); bias random walks are modelled in 20 min lumps, so a bias step shows as a misfit of the walk rather than as one outlier increment.\n\
          - Run time: replays {:.1} s, diagnosis {:.1} s.",
         o.replay_s, o.diagnose_s
     );
