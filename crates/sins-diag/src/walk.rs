@@ -74,10 +74,9 @@ impl WalkLikelihood {
         self.eval(a).0
     }
 
-    /// `(-2 log L(q), gᵀ S(q)⁻¹ g)` with `q = a²`.
-    fn eval(&self, a: f64) -> (f64, f64) {
+    /// The capacitance `I + BᵀB` of `S = I + B Bᵀ`, `B = [U, aV]`.
+    fn capacitance(&self, a: f64) -> DMatrix<f64> {
         let (np, nv) = (self.uu.nrows(), self.vv.nrows());
-        let q = a * a;
         let mut m = DMatrix::<f64>::identity(np + nv, np + nv);
         let mut top = m.view_mut((0, 0), (np, np));
         top += &self.uu;
@@ -85,12 +84,24 @@ impl WalkLikelihood {
         m.view_mut((np, 0), (nv, np))
             .copy_from(&(self.uv.transpose() * a));
         let mut bottom = m.view_mut((np, np), (nv, nv));
-        bottom += &self.vv * q;
-        let mut b = DVector::zeros(np + nv);
+        bottom += &self.vv * (a * a);
+        m
+    }
+
+    /// `Bᵀ g`.
+    fn btg(&self, a: f64) -> DVector<f64> {
+        let np = self.uu.nrows();
+        let mut b = DVector::zeros(np + self.vv.nrows());
         b.rows_mut(0, np).copy_from(&self.ug);
-        b.rows_mut(np, nv).copy_from(&(&self.vg * a));
+        b.rows_mut(np, self.vv.nrows()).copy_from(&(&self.vg * a));
+        b
+    }
+
+    /// `(-2 log L(q), gᵀ S(q)⁻¹ g)` with `q = a²`.
+    fn eval(&self, a: f64) -> (f64, f64) {
+        let b = self.btg(a);
         // I + a PSD matrix: positive definite unless the data hold NaN.
-        match m.cholesky() {
+        match self.capacitance(a).cholesky() {
             Some(c) => {
                 let logdet: f64 = c.l().diagonal().iter().map(|d| 2.0 * d.ln()).sum();
                 let x = c.solve(&b);
@@ -105,22 +116,11 @@ impl WalkLikelihood {
     /// walk, `C = a² Vᵀ S⁻¹ V` (Woodbury with `B = [U, aV]`: `S⁻¹ = I − B (I + BᵀB)⁻¹ Bᵀ`).
     fn smoothed(&self, a: f64) -> Option<(DVector<f64>, DMatrix<f64>)> {
         let (np, nv) = (self.uu.nrows(), self.vv.nrows());
-        let mut m = DMatrix::<f64>::identity(np + nv, np + nv);
-        let mut top = m.view_mut((0, 0), (np, np));
-        top += &self.uu;
-        m.view_mut((0, np), (np, nv)).copy_from(&(&self.uv * a));
-        m.view_mut((np, 0), (nv, np))
-            .copy_from(&(self.uv.transpose() * a));
-        let mut bottom = m.view_mut((np, np), (nv, nv));
-        bottom += &self.vv * (a * a);
-        let chol = m.cholesky()?;
-        // Bᵀ V and Bᵀ g.
+        let chol = self.capacitance(a).cholesky()?;
         let mut btv = DMatrix::zeros(np + nv, nv);
         btv.rows_mut(0, np).copy_from(&self.uv);
         btv.rows_mut(np, nv).copy_from(&(&self.vv * a));
-        let mut btg = DVector::zeros(np + nv);
-        btg.rows_mut(0, np).copy_from(&self.ug);
-        btg.rows_mut(np, nv).copy_from(&(&self.vg * a));
+        let btg = self.btg(a);
         let vsg = &self.vg - btv.transpose() * chol.solve(&btg);
         let vsv = &self.vv - btv.transpose() * chol.solve(&btv);
         Some((vsg * a, vsv * (a * a)))

@@ -20,6 +20,20 @@ fn calibration_scenario() -> sins_sim::Scenario {
     e.scenarios[0].clone()
 }
 
+/// The calibration run `sc` as the absorption takes it.
+fn cal_run<'a>(
+    source: &'a mut sins_diag::source::SimSource,
+    sc: &'a sins_sim::Scenario,
+    temps: &'a sins_diag::temperature::TemperatureSeries,
+) -> CalibrationRun<'a> {
+    CalibrationRun {
+        run: "cal",
+        source,
+        site: &sc.site,
+        temps,
+    }
+}
+
 #[test]
 fn absorption_predicts_the_calibration_of_an_imu_with_the_effect() {
     let cal = calibration_scenario();
@@ -40,14 +54,8 @@ fn absorption_predicts_the_calibration_of_an_imu_with_the_effect() {
 
     let mut src = common::source(&cal);
     let temps = temperature_series(&mut src, 60).expect("temperatures");
-    let run = CalibrationRun {
-        run: "cal",
-        source: &mut src,
-        site: &cal.site,
-        temps: &temps,
-    };
     let a = absorption(
-        run,
+        cal_run(&mut src, &cal, &temps),
         &plain.params,
         &NoiseSpec::from(&cal.noise),
         &[(kind, 2)],
@@ -90,12 +98,7 @@ fn absorption_predicts_the_calibration_of_an_imu_with_the_effect() {
     let temps = temperature_series(&mut src, 60).expect("temperatures");
     let noise = NoiseSpec::from(&with.noise);
     let a = absorption(
-        CalibrationRun {
-            run: "cal",
-            source: &mut src,
-            site: &with.site,
-            temps: &temps,
-        },
+        cal_run(&mut src, &with, &temps),
         &biased.params,
         &noise,
         &[(kind, 2)],
@@ -105,12 +108,7 @@ fn absorption_predicts_the_calibration_of_an_imu_with_the_effect() {
     let values = [0.0, 0.0, m_si];
     let exact = a
         .without_exact(
-            CalibrationRun {
-                run: "cal",
-                source: &mut src,
-                site: &with.site,
-                temps: &temps,
-            },
+            cal_run(&mut src, &with, &temps),
             &biased.params,
             &noise,
             kind,

@@ -94,25 +94,11 @@ fn twin_covariance_is_calibrated_on_noise_only_runs() {
 
 /// Two noisy runs (different seeds and chamber ramps) with `effect` hidden in both.
 fn two_runs(effect: Option<(sins_imu::EffectKind, usize, f64)>) -> Vec<sins_sim::Scenario> {
-    let hours = 3.0;
-    [(10.0, 8.0, 21), (30.0, -6.0, 22)]
+    let effects: Vec<_> = effect
         .iter()
-        .map(|&(start, rate, seed)| {
-            let mut sc = scenario(
-                turning_motion(hours),
-                100.0,
-                ramp_thermal(start, rate, hours),
-            );
-            sc.noise = paper_noise();
-            sc.thermal.thermometer_noise_degc = 0.01;
-            sc.seed = seed;
-            sc.effects = effect
-                .iter()
-                .map(|&(k, c, v)| effect_spec(k, c, v))
-                .collect();
-            sc
-        })
-        .collect()
+        .map(|&(k, c, v)| effect_spec(k, c, v))
+        .collect();
+    noisy_turning_runs(3.0, &[(10.0, 8.0, 21), (30.0, -6.0, 22)], &effects)
 }
 
 fn effect_spec(k: sins_imu::EffectKind, c: usize, v: f64) -> sins_imu::EffectSpec {

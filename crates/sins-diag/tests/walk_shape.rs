@@ -13,22 +13,11 @@ use sins_imu::EffectKind;
 
 /// Two noisy 6 h runs (different seeds and chamber ramps) with `kind` on component `c`.
 fn diagnosed(kind: EffectKind, c: usize, value: f64) -> Diagnosis {
-    let hours = 6.0;
-    let scs: Vec<_> = [(10.0, 4.0, 31), (30.0, -3.0, 32)]
-        .iter()
-        .map(|&(start, rate, seed)| {
-            let mut sc = scenario(
-                turning_motion(hours),
-                100.0,
-                ramp_thermal(start, rate, hours),
-            );
-            sc.noise = paper_noise();
-            sc.thermal.thermometer_noise_degc = 0.01;
-            sc.seed = seed;
-            sc.effects = vec![effect(kind, c, value)];
-            sc
-        })
-        .collect();
+    let scs = noisy_turning_runs(
+        6.0,
+        &[(10.0, 4.0, 31), (30.0, -3.0, 32)],
+        &[effect(kind, c, value)],
+    );
     let truth = scs[0].truth;
     let mut inp = input(&scs, &truth, None);
     let d = diagnose(&mut inp, &DiagnoseConfig::default()).expect("diagnosis");

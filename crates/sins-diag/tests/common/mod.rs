@@ -190,6 +190,29 @@ pub fn paper_noise() -> NoiseModel {
     }
 }
 
+/// Noisy turning runs of `hours` at 100 Hz with the paper's sensor noise and a 0.01 degC
+/// thermometer, one per `(chamber start degC, ramp degC/h, seed)`, each with `effects` hidden.
+pub fn noisy_turning_runs(
+    hours: f64,
+    runs: &[(f64, f64, u64)],
+    effects: &[EffectSpec],
+) -> Vec<Scenario> {
+    runs.iter()
+        .map(|&(start, rate, seed)| {
+            let mut sc = scenario(
+                turning_motion(hours),
+                100.0,
+                ramp_thermal(start, rate, hours),
+            );
+            sc.noise = paper_noise();
+            sc.thermal.thermometer_noise_degc = 0.01;
+            sc.seed = seed;
+            sc.effects = effects.to_vec();
+            sc
+        })
+        .collect()
+}
+
 /// A diagnosis input of the scenarios, replayed with `params`.
 pub fn input(
     scenarios: &[Scenario],
