@@ -98,7 +98,13 @@ fn two_runs(effect: Option<(sins_imu::EffectKind, usize, f64)>) -> Vec<sins_sim:
         .iter()
         .map(|&(k, c, v)| effect_spec(k, c, v))
         .collect();
-    noisy_turning_runs(3.0, &[(10.0, 8.0, 21), (30.0, -6.0, 22)], &effects)
+    noisy_runs(
+        turning_motion,
+        100.0,
+        3.0,
+        &[(10.0, 8.0, 21), (30.0, -6.0, 22)],
+        &effects,
+    )
 }
 
 fn effect_spec(k: sins_imu::EffectKind, c: usize, v: f64) -> sins_imu::EffectSpec {

@@ -12,22 +12,13 @@ use std::time::Instant;
 /// accelerometer along x (`ax.x`): under pattern 3 the centripetal term rectifies into a bias
 /// of tens of mg, hundreds of km of error, far outside the linear model's range.
 fn runs(value: f64) -> Vec<sins_sim::Scenario> {
-    let hours = 3.0;
-    [(10.0, 8.0, 31), (30.0, -6.0, 32)]
-        .iter()
-        .map(|&(start, rate, seed)| {
-            let mut sc = scenario(
-                vibration_motion(hours),
-                200.0,
-                ramp_thermal(start, rate, hours),
-            );
-            sc.noise = paper_noise();
-            sc.thermal.thermometer_noise_degc = 0.01;
-            sc.seed = seed;
-            sc.effects = vec![effect(EffectKind::SizeEffect, 0, value)];
-            sc
-        })
-        .collect()
+    noisy_runs(
+        vibration_motion,
+        200.0,
+        3.0,
+        &[(10.0, 8.0, 31), (30.0, -6.0, 32)],
+        &[effect(EffectKind::SizeEffect, 0, value)],
+    )
 }
 
 #[test]

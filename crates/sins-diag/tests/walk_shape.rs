@@ -13,7 +13,9 @@ use sins_imu::EffectKind;
 
 /// Two noisy 6 h runs (different seeds and chamber ramps) with `kind` on component `c`.
 fn diagnosed(kind: EffectKind, c: usize, value: f64) -> Diagnosis {
-    let scs = noisy_turning_runs(
+    let scs = noisy_runs(
+        turning_motion,
+        100.0,
         6.0,
         &[(10.0, 4.0, 31), (30.0, -3.0, 32)],
         &[effect(kind, c, value)],

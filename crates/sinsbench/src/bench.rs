@@ -115,15 +115,7 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
     child(&["simulate", &p(&cal_exp), "--out", &p(&cal_dir)])?;
     let cal = cal_dir.join("truth_cal1.parquet");
     let params_out = args.dir.join("cal1_42.toml");
-    let m = child(&[
-        "calibrate",
-        "--dataset",
-        &p(&cal),
-        "--states",
-        "42",
-        "--out",
-        &p(&params_out),
-    ])?;
+    let m = calibrate_42(&cal, &params_out)?;
     println!(
         "calibrate 4.2 h / 200 Hz with the 42-state filter (Parquet decode + alignment + filter, 1 s updates, history and .rrd): {:.2} s wall, peak RSS {:.0} MB",
         m.wall_s, m.peak_rss_mb
@@ -203,15 +195,7 @@ fn gap_set(dir: &Path, exp: &Path) -> Result<()> {
     }
     let cal = gap_dir.join("truth_cal1.parquet");
     let params = gap_dir.join("cal1_42.toml");
-    child(&[
-        "calibrate",
-        "--dataset",
-        &p(&cal),
-        "--states",
-        "42",
-        "--out",
-        &p(&params),
-    ])?;
+    calibrate_42(&cal, &params)?;
     let m = diagnose_set(&cal, &gap_dir, &params, &gap_dir.join("diagnosis"))?;
     println!(
         "diagnose one set with a large gap (same four runs, hidden -8 mm x-accelerometer lever arm: ranking, nonlinear refinement, validation): {:.1} s wall, peak RSS {:.0} MB",
@@ -222,6 +206,19 @@ fn gap_set(dir: &Path, exp: &Path) -> Result<()> {
 }
 
 /// `diagnose` on calibration run `cal` and `nav_dir`'s nav1-nav3 under `params`, into `out`.
+/// `sinsbench calibrate` of dataset `cal` with the 42-state filter into `out`.
+fn calibrate_42(cal: &Path, out: &Path) -> Result<Measured> {
+    child(&[
+        "calibrate",
+        "--dataset",
+        &p(cal),
+        "--states",
+        "42",
+        "--out",
+        &p(out),
+    ])
+}
+
 fn diagnose_set(cal: &Path, nav_dir: &Path, params: &Path, out: &Path) -> Result<Measured> {
     let mut args = vec!["diagnose".to_string()];
     let runs = ["nav1", "nav2", "nav3"].map(|n| (n, nav_dir.join(format!("{n}.parquet"))));

@@ -190,20 +190,18 @@ pub fn paper_noise() -> NoiseModel {
     }
 }
 
-/// Noisy turning runs of `hours` at 100 Hz with the paper's sensor noise and a 0.01 degC
+/// Noisy runs of `motion(hours)` at `rate_hz` with the paper's sensor noise and a 0.01 degC
 /// thermometer, one per `(chamber start degC, ramp degC/h, seed)`, each with `effects` hidden.
-pub fn noisy_turning_runs(
+pub fn noisy_runs(
+    motion: fn(f64) -> Vec<MotionSegment>,
+    rate_hz: f64,
     hours: f64,
     runs: &[(f64, f64, u64)],
     effects: &[EffectSpec],
 ) -> Vec<Scenario> {
     runs.iter()
         .map(|&(start, rate, seed)| {
-            let mut sc = scenario(
-                turning_motion(hours),
-                100.0,
-                ramp_thermal(start, rate, hours),
-            );
+            let mut sc = scenario(motion(hours), rate_hz, ramp_thermal(start, rate, hours));
             sc.noise = paper_noise();
             sc.thermal.thermometer_noise_degc = 0.01;
             sc.seed = seed;
