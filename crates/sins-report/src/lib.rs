@@ -18,6 +18,9 @@ mod rrd;
 mod run;
 mod simulate;
 mod tracks;
+mod uq_config;
+mod uq_markdown;
+mod uq_write;
 
 pub use dataset::{replay_dataset, require_temperatures};
 pub use error::ReportError;
@@ -25,3 +28,11 @@ pub use markdown::render_markdown;
 pub use output::{ReportFiles, write_dir_atomically, write_report};
 pub use run::{Progress, ReportRun, ResolvedSet, run_report};
 pub use simulate::{dataset_meta, simulate_to_dataset, simulate_to_dataset_with};
+pub use uq_config::{
+    UqStudy, load_base, load_table2, load_uq_study, paper_cells, table2_indices, unit_si,
+};
+pub use uq_markdown::render_uq_markdown;
+pub use uq_write::{
+    intervals_figure, read_sample, sample_path, sensitivity_figure, uq_table_for_report,
+    write_atomic, write_sample, write_uq_outputs,
+};

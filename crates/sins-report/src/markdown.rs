@@ -24,6 +24,10 @@ pub fn render_markdown(run: &ReportRun) -> String {
         run.config.source_path.display()
     );
     table5(&mut md, run);
+    if let Some(a) = &run.appendix {
+        md.push_str(a);
+        md.push('\n');
+    }
     where_and_when(&mut md, run);
     segments(&mut md, run);
     let _ = writeln!(md, "## Plots and recordings\n");

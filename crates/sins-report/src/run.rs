@@ -56,6 +56,9 @@ pub struct ReportRun {
     pub paper: Vec<PaperRow>,
     /// Wall time of each step (name, seconds).
     pub timings: Vec<(String, f64)>,
+    /// A section placed after Table 5 in `report.md` (e.g. the replica's UQ intervals and
+    /// V&V verdicts of `report --uq DIR`).
+    pub appendix: Option<String>,
 }
 
 /// Run `config`.
@@ -160,6 +163,7 @@ pub fn run_report(
         summary,
         paper,
         timings,
+        appendix: None,
     })
 }
 

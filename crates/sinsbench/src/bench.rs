@@ -2,6 +2,7 @@
 //! wall time and peak memory are its own.
 
 use crate::defaults;
+use crate::out::say;
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -18,6 +19,9 @@ pub struct Args {
     /// Skip the error-free floor (four extra 15 h replays).
     #[arg(long)]
     pub no_floor: bool,
+    /// Skip the replica-uq step (a short study: 4 main samples, 2 per candidate).
+    #[arg(long)]
+    pub no_uq: bool,
 }
 
 struct Measured {
@@ -62,10 +66,10 @@ fn p(path: &Path) -> String {
 pub fn run(args: Args, _quiet: bool) -> Result<()> {
     let exp = defaults::experiments_dir();
     std::fs::create_dir_all(&args.dir)?;
-    println!(
+    say!(
         "sinsbench bench ({} logical CPUs)",
         std::thread::available_parallelism().map_or(0, |n| n.get())
-    );
+    )?;
 
     let nav_exp = exp.join("paper_navigation.toml");
     let m = child(&[
@@ -88,12 +92,12 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
     ])?;
     let dataset = args.dir.join("nav1.parquet");
     let bytes = std::fs::metadata(&dataset).map(|m| m.len()).unwrap_or(0);
-    println!(
+    say!(
         "simulate 15 h / 200 Hz (10.8 M samples, noise, thermal, Parquet): {:.2} s wall, peak RSS {:.0} MB, file {:.0} MB",
         m.wall_s,
         m.peak_rss_mb,
         bytes as f64 / 1e6
-    );
+    )?;
 
     let truth = exp.join("imu/paper_truth.toml");
     let m = child(&[
@@ -103,11 +107,12 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
         "--params",
         &p(&truth),
     ])?;
-    println!(
+    say!(
         "replay 15 h / 200 Hz (Parquet decode + 42-state compensation + alignment + reconstruction + mechanization): {:.2} s wall, peak RSS {:.0} MB",
-        m.wall_s, m.peak_rss_mb
-    );
-    print!("{}", indent(&m.stdout));
+        m.wall_s,
+        m.peak_rss_mb
+    )?;
+    say_indented(&m.stdout)?;
 
     // The navigation runs' own IMU (Table 1 constants + Table 3 temperature coefficients).
     let cal_exp = exp.join("paper_truth_calibration.toml");
@@ -116,32 +121,39 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
     let cal = cal_dir.join("truth_cal1.parquet");
     let params_out = args.dir.join("cal1_42.toml");
     let m = calibrate_42(&cal, &params_out)?;
-    println!(
+    say!(
         "calibrate 4.2 h / 200 Hz with the 42-state filter (Parquet decode + alignment + filter, 1 s updates, history and .rrd): {:.2} s wall, peak RSS {:.0} MB",
-        m.wall_s, m.peak_rss_mb
-    );
+        m.wall_s,
+        m.peak_rss_mb
+    )?;
 
     let m = diagnose_set(&cal, &args.dir, &params_out, &args.dir.join("diagnosis"))?;
-    println!(
+    say!(
         "diagnose one set (4.2 h calibration run + three 15 h navigation runs: Parquet, replays, sensitivities, twin, fits, validation, report): {:.1} s wall, peak RSS {:.0} MB",
-        m.wall_s, m.peak_rss_mb
-    );
-    print!("{}", indent(&m.stdout));
+        m.wall_s,
+        m.peak_rss_mb
+    )?;
+    say_indented(&m.stdout)?;
 
     gap_set(&args.dir, &exp)?;
 
     let m = child(&["report", "--reports-dir", &p(&args.dir.join("reports"))])?;
-    println!(
+    say!(
         "report (default replica: calibration simulated + 30- and 42-state filters, 3 x 15 h simulated + replayed twice, plots, .rrd): {:.1} s wall, peak RSS {:.0} MB",
-        m.wall_s, m.peak_rss_mb
-    );
-    print!("{}", indent(&m.stdout));
+        m.wall_s,
+        m.peak_rss_mb
+    )?;
+    say_indented(&m.stdout)?;
+
+    if !args.no_uq {
+        uq_step(&args.dir)?;
+    }
 
     if !args.no_floor {
         let floor_exp = exp.join("error_free_navigation.toml");
         let floor_dir = args.dir.join("floor");
         let m = child(&["simulate", &p(&floor_exp), "--out", &p(&floor_dir)])?;
-        println!("simulate error-free 15 h: {:.2} s", m.wall_s);
+        say!("simulate error-free 15 h: {:.2} s", m.wall_s)?;
         let file = std::fs::read_dir(&floor_dir)?
             .filter_map(|e| e.ok().map(|e| e.path()))
             .find(|f| f.extension().is_some_and(|x| x == "parquet"))
@@ -157,16 +169,52 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
                 algorithm,
             ];
             let m = child(&args)?;
-            println!(
+            say!(
                 "error-free floor at 200 Hz, {algorithm} ({:.2} s replay):",
                 m.wall_s
-            );
-            print!("{}", indent(&m.stdout));
+            )?;
+            say_indented(&m.stdout)?;
         }
     }
     if !args.keep {
         let _ = std::fs::remove_dir_all(&args.dir);
     }
+    Ok(())
+}
+
+/// A short `replica-uq` study (the default assumptions, 4 main samples and 2 per candidate):
+/// time per sample and the projected wall time of the default study.
+fn uq_step(dir: &Path) -> Result<()> {
+    let exp = defaults::experiments_dir().join("replica/assumptions.toml");
+    let text = std::fs::read_to_string(&exp).with_context(|| p(&exp))?;
+    let candidates = text.matches("[[candidate]]").count();
+    let default_main: usize = text
+        .lines()
+        .find_map(|l| {
+            l.trim()
+                .strip_prefix("samples = ")
+                .and_then(|v| v.trim().parse().ok())
+        })
+        .unwrap_or(0);
+    let jobs = 1 + 4 + 2 * candidates;
+    let out = dir.join("uq");
+    let m = child(&[
+        "replica-uq",
+        "--samples",
+        "4",
+        "--candidate-samples",
+        "2",
+        "--out",
+        &p(&out),
+    ])?;
+    let per = m.wall_s / jobs as f64;
+    let default_jobs = 1 + default_main + 6 * candidates;
+    println!(
+        "replica-uq short study ({jobs} samples on 2 threads: each a 4.2 h calibration run, 30- and 42-state filters, 3 x 15 h simulated + replayed twice): {:.1} s wall, {per:.1} s per sample, peak RSS {:.0} MB; the default study ({default_jobs} samples) projects to {:.1} min",
+        m.wall_s,
+        m.peak_rss_mb,
+        per * default_jobs as f64 / 60.0
+    );
     Ok(())
 }
 
@@ -197,11 +245,12 @@ fn gap_set(dir: &Path, exp: &Path) -> Result<()> {
     let params = gap_dir.join("cal1_42.toml");
     calibrate_42(&cal, &params)?;
     let m = diagnose_set(&cal, &gap_dir, &params, &gap_dir.join("diagnosis"))?;
-    println!(
+    say!(
         "diagnose one set with a large gap (same four runs, hidden -8 mm x-accelerometer lever arm: ranking, nonlinear refinement, validation): {:.1} s wall, peak RSS {:.0} MB",
-        m.wall_s, m.peak_rss_mb
-    );
-    print!("{}", indent(&m.stdout));
+        m.wall_s,
+        m.peak_rss_mb
+    )?;
+    say_indented(&m.stdout)?;
     Ok(())
 }
 
@@ -232,6 +281,7 @@ fn diagnose_set(cal: &Path, nav_dir: &Path, params: &Path, out: &Path) -> Result
     child(&args.iter().map(String::as_str).collect::<Vec<_>>())
 }
 
-fn indent(s: &str) -> String {
-    s.lines().map(|l| format!("    {l}\n")).collect()
+/// Print a child's output indented by four spaces.
+fn say_indented(s: &str) -> Result<()> {
+    s.lines().try_for_each(|l| say!("    {l}"))
 }

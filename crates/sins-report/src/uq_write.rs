@@ -1,0 +1,213 @@
+//! The UQ study's directory: one JSON file per sample (`samples/`, written as each sample ends,
+//! so a study can run in shards and resume), then `summary.json`, `report.md`,
+//! `intervals.png` (the Monte Carlo intervals beside the paper's points) and `sensitivity.png`
+//! (grouped Sobol indices). Every file is written aside and renamed into place.
+
+use crate::ReportError;
+use sins_plot::{Figure, Line, Panel, Rgb, SERIES_PALETTE};
+use sins_uq::sample::SampleOutcome;
+use sins_uq::summary::UqSummary;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Writes `bytes` to `path` through a temporary file in the same directory and a rename.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ReportError> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
+    let result = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(ReportError::io(path, e));
+    }
+    Ok(())
+}
+
+/// The file of one sample.
+pub fn sample_path(dir: &Path, study: &str, index: usize) -> PathBuf {
+    dir.join("samples").join(format!("{study}-{index:05}.json"))
+}
+
+/// Writes one sample's outcome.
+pub fn write_sample(dir: &Path, o: &SampleOutcome) -> Result<(), ReportError> {
+    let path = sample_path(dir, &o.study, o.index);
+    let json = serde_json::to_vec(o)
+        .map_err(|e| ReportError::Mismatch(format!("{}: {e}", path.display())))?;
+    write_atomic(&path, &json)
+}
+
+/// Reads one sample's outcome, if its file exists.
+pub fn read_sample(path: &Path) -> Result<Option<SampleOutcome>, ReportError> {
+    match std::fs::read(path) {
+        Ok(bytes) => serde_json::from_slice(&bytes).map(Some).map_err(|e| {
+            ReportError::Mismatch(format!(
+                "{}: not a sample file ({e}); delete it to rerun the sample",
+                path.display()
+            ))
+        }),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(ReportError::io(path, e)),
+    }
+}
+
+/// Writes `summary.json`, `report.md`, `intervals.png` and `sensitivity.png` into `dir`;
+/// returns the file names.
+pub fn write_uq_outputs(dir: &Path, summary: &UqSummary) -> Result<Vec<String>, ReportError> {
+    let json =
+        serde_json::to_string_pretty(summary).map_err(|e| ReportError::Mismatch(e.to_string()))?;
+    write_atomic(&dir.join("summary.json"), format!("{json}\n").as_bytes())?;
+    write_atomic(
+        &dir.join("report.md"),
+        crate::uq_markdown::render_uq_markdown(summary).as_bytes(),
+    )?;
+    let plot = |e: sins_plot::PlotError| ReportError::Mismatch(format!("plot: {e}"));
+    write_atomic(
+        &dir.join("intervals.png"),
+        &intervals_figure(summary).to_png_bytes().map_err(plot)?,
+    )?;
+    write_atomic(
+        &dir.join("sensitivity.png"),
+        &sensitivity_figure(summary).to_png_bytes().map_err(plot)?,
+    )?;
+    Ok([
+        "summary.json",
+        "report.md",
+        "intervals.png",
+        "sensitivity.png",
+    ]
+    .map(String::from)
+    .to_vec())
+}
+
+/// A vertical segment at `x` from `lo` to `hi`.
+fn segment(label: &str, x: f64, lo: f64, hi: f64, color: Rgb, width: f32) -> Line {
+    Line::new(label, vec![x, x], vec![lo, hi])
+        .color(color)
+        .width_px(width)
+}
+
+fn tick(label: &str, x: f64, y: f64, color: Rgb) -> Line {
+    Line::new(label, vec![x - 0.25, x + 0.25], vec![y, y])
+        .color(color)
+        .width_px(3.0)
+}
+
+/// The 5-95 % intervals and medians per cell beside the paper's values (and the point replica):
+/// errors on a log10 axis, improvements on a linear one.
+pub fn intervals_figure(s: &UqSummary) -> Figure {
+    let mut err = Panel::new(
+        "maximum horizontal error: Monte Carlo 5-95 % (bar), median, point replica, paper",
+    )
+    .y_label("log10(nmi)")
+    .x_label("cell: exp1 without, exp1 with, exp2 without, ...");
+    let mut imp = Panel::new("improvement: Monte Carlo 5-95 %, median, paper")
+        .y_label("%")
+        .x_label("experiment");
+    let (mut xe, mut xi) = (0.0, 0.0);
+    for (k, c) in s.cells.iter().enumerate() {
+        let first = k < 3;
+        let lbl = |t: &str| if first { t.to_string() } else { String::new() };
+        let paper = c.validation.as_ref().map(|v| v.d);
+        if c.cell.ends_with("improvement") {
+            xi += 1.0;
+            imp = imp.line(segment(
+                &lbl("5-95 %"),
+                xi,
+                c.p05,
+                c.p95,
+                SERIES_PALETTE[0],
+                6.0,
+            ));
+            imp = imp.line(tick(&lbl("median"), xi, c.median, Rgb::BLACK));
+            if let Some(d) = paper {
+                imp = imp.line(tick(&lbl("paper"), xi + 0.3, d, SERIES_PALETTE[3]));
+            }
+        } else {
+            xe += 1.0;
+            let l = |v: f64| v.max(1e-6).log10();
+            err = err.line(segment(
+                &lbl("5-95 %"),
+                xe,
+                l(c.p05),
+                l(c.p95),
+                SERIES_PALETTE[0],
+                6.0,
+            ));
+            err = err.line(tick(&lbl("median"), xe, l(c.median), Rgb::BLACK));
+            if c.point.is_finite() {
+                err = err.line(tick(
+                    &lbl("point replica"),
+                    xe - 0.3,
+                    l(c.point),
+                    SERIES_PALETTE[1],
+                ));
+            }
+            if let Some(d) = paper {
+                err = err.line(tick(&lbl("paper"), xe + 0.3, l(d), SERIES_PALETTE[3]));
+            }
+        }
+    }
+    Figure::new()
+        .title("Table 5 as a prediction: replica Monte Carlo against the paper")
+        .panel(err.x_range(0.3, xe + 0.7))
+        .panel(imp.x_range(0.3, xi + 0.7))
+}
+
+/// Grouped first-order Sobol indices (bars with their 90 % bootstrap intervals) of the first
+/// experiment's three cells.
+pub fn sensitivity_figure(s: &UqSummary) -> Figure {
+    let mut fig = Figure::new().title(
+        "Global sensitivity (grouped first-order Sobol indices of the surrogate, 90 % bootstrap)",
+    );
+    for c in s.cells.iter().take(3) {
+        let Some(sens) = &c.sensitivity else { continue };
+        let mut p = Panel::new(format!(
+            "{} (surrogate LOO R2 {:.2}); bars: groups, largest first",
+            c.cell, sens.r2_loo
+        ))
+        .y_label("index")
+        .y_range(0.0, 1.0);
+        for (k, g) in sens.groups.iter().enumerate() {
+            let x = k as f64 + 1.0;
+            let color = SERIES_PALETTE[k % SERIES_PALETTE.len()];
+            p = p.line(segment(&g.group, x, 0.0, g.first_order, color, 14.0));
+            p = p.line(segment("", x + 0.2, g.low, g.high, Rgb::BLACK, 2.0));
+        }
+        fig = fig.panel(p.x_range(0.3, sens.groups.len() as f64 + 0.7));
+    }
+    fig
+}
+
+/// A short text of the per-cell interval and verdict for `report.md` (used by `report --uq`).
+pub fn uq_table_for_report(s: &UqSummary) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "## Table 5 as a prediction (replica-uq, {} samples, seed {})\n",
+        s.samples, s.seed
+    );
+    let _ = writeln!(
+        out,
+        "| cell | point | median | 5-95 % | paper | E = S - D | u_val | V&V 20 verdict |\n|---|---|---|---|---|---|---|---|"
+    );
+    for c in &s.cells {
+        let (d, e, u, verdict) = match &c.validation {
+            Some(v) => (
+                format!("{:.2}", v.d),
+                format!("{:+.2}", v.e),
+                format!("{:.2}", v.u_val),
+                v.verdict(),
+            ),
+            None => ("-".into(), "-".into(), "-".into(), "-".into()),
+        };
+        let _ = writeln!(
+            out,
+            "| {} | {:.2} | {:.2} | {:.2} - {:.2} | {d} | {e} | {u} | {verdict} |",
+            c.cell, c.point, c.median, c.p05, c.p95
+        );
+    }
+    out
+}

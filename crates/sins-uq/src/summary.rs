@@ -1,0 +1,478 @@
+//! The study's results as one serialisable summary: per Table 5 cell the point replica, the
+//! Monte Carlo median and 5-95 % interval with their bootstrap errors, the V&V 20 comparison,
+//! the grouped Sobol indices; Table 2 against the replica's spread; the gap diagnosis.
+//! Everything is a function of the sorted sample outcomes, so the summary is identical whatever
+//! the thread count or sharding.
+
+use crate::assumptions::{AssumptionSet, Distribution};
+use crate::gap::{CandidateCells, GapDiagnosis, diagnose};
+use crate::sample::SampleOutcome;
+use crate::stats::{self, IndexInterval, bootstrap_quantile_se, mean_sd, quantile};
+use crate::vv::Validation;
+use crate::{NMI_M, UqError};
+use serde::{Deserialize, Serialize};
+
+/// Schema version of [`UqSummary`].
+pub const UQ_SCHEMA: u32 = 1;
+/// Bootstrap resamples for quantile errors and Sobol intervals.
+pub const BOOTSTRAP_RESAMPLES: usize = 400;
+/// The replay's error-free floor over the paper's 15 h run (m): the numerical uncertainty of a
+/// single replay.
+pub const FLOOR_M: f64 = 0.3;
+
+/// Which number of a Table 5 row.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum CellKind {
+    /// Maximum horizontal error without temperature compensation (30-state set, nmi).
+    Without,
+    /// With temperature compensation (42-state set, nmi).
+    With,
+    /// Improvement (%).
+    Improvement,
+}
+
+/// One cell of Table 5.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct CellId {
+    /// Experiment (1-based).
+    pub experiment: usize,
+    /// Which number.
+    pub kind: CellKind,
+}
+
+impl CellId {
+    /// "exp1 without", "exp2 with", "exp3 improvement".
+    pub fn label(&self) -> String {
+        let k = match self.kind {
+            CellKind::Without => "without",
+            CellKind::With => "with",
+            CellKind::Improvement => "improvement",
+        };
+        format!("exp{} {k}", self.experiment)
+    }
+
+    /// Parses [`Self::label`]'s form.
+    pub fn parse(text: &str) -> Option<Self> {
+        let (e, k) = text.trim().split_once(' ')?;
+        let experiment = e.strip_prefix("exp")?.parse().ok().filter(|e| *e >= 1)?;
+        let kind = match k.trim() {
+            "without" => CellKind::Without,
+            "with" => CellKind::With,
+            "improvement" => CellKind::Improvement,
+            _ => return None,
+        };
+        Some(Self { experiment, kind })
+    }
+
+    /// The cell's value in a sample (nmi or %), NaN when the sample has no such run.
+    pub fn value(&self, o: &SampleOutcome) -> f64 {
+        let Some([e30, e42]) = o.max_horizontal_m.get(self.experiment - 1) else {
+            return f64::NAN;
+        };
+        match self.kind {
+            CellKind::Without => e30 / NMI_M,
+            CellKind::With => e42 / NMI_M,
+            CellKind::Improvement => 100.0 * (e30 - e42) / e30,
+        }
+    }
+}
+
+/// Every cell of `runs` experiments: without, with, improvement per experiment.
+pub fn all_cells(runs: usize) -> Vec<CellId> {
+    (1..=runs)
+        .flat_map(|experiment| {
+            [CellKind::Without, CellKind::With, CellKind::Improvement]
+                .map(|kind| CellId { experiment, kind })
+        })
+        .collect()
+}
+
+/// The paper's value of a cell and its own scatter (the STD of its three experiments in that
+/// column).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PaperCell {
+    /// Value (nmi or %).
+    pub value: f64,
+    /// Scatter (same unit).
+    pub scatter: f64,
+}
+
+/// One group of Table 2: coefficient indices (state order of eq 8), unit and the paper's STDs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Table2Group {
+    /// The paper's row name.
+    pub name: String,
+    /// Paper unit label.
+    pub unit: String,
+    /// SI value of one unit.
+    pub unit_si: f64,
+    /// Coefficient indices in state order.
+    pub indices: Vec<usize>,
+    /// The paper's STD of each (paper units).
+    pub paper_std: Vec<f64>,
+}
+
+/// The paper's data the study compares with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PaperData {
+    /// Table 5 per cell, aligned with [`all_cells`] of the replica's runs.
+    pub cells: Vec<PaperCell>,
+    /// Table 2.
+    pub table2: Vec<Table2Group>,
+}
+
+/// One cell's results.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CellSummary {
+    /// "exp1 without" etc.
+    pub cell: String,
+    /// The point replica (`sinsbench report`).
+    pub point: f64,
+    /// Monte Carlo median.
+    pub median: f64,
+    /// 5 % quantile.
+    pub p05: f64,
+    /// 95 % quantile.
+    pub p95: f64,
+    /// Bootstrap standard errors of the 5 %, 50 % and 95 % quantiles.
+    pub bootstrap_se: [f64; 3],
+    /// The V&V 20 comparison (when the paper has the cell).
+    pub validation: Option<Validation>,
+    /// Grouped Sobol indices of the surrogate.
+    pub sensitivity: Option<CellSensitivity>,
+}
+
+/// Global sensitivity of one cell.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CellSensitivity {
+    /// Leave-one-out R² of the surrogate against the full runs (log space for errors).
+    pub r2_loo: f64,
+    /// In-sample R².
+    pub r2: f64,
+    /// Ridge penalty.
+    pub lambda: f64,
+    /// Per group: first-order index (= total for the additive surrogate) with its 90 %
+    /// bootstrap interval, largest first.
+    pub groups: Vec<GroupIndex>,
+}
+
+/// One group's Sobol index.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GroupIndex {
+    /// Group name.
+    pub group: String,
+    /// First-order index.
+    pub first_order: f64,
+    /// 5 % bootstrap quantile.
+    pub low: f64,
+    /// 95 % bootstrap quantile.
+    pub high: f64,
+}
+
+/// Table 2 against the replica.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Table2Row {
+    /// Group name.
+    pub name: String,
+    /// Unit.
+    pub unit: String,
+    /// The paper's STDs.
+    pub paper: Vec<f64>,
+    /// The replica's spread of the 42-state estimate minus truth over the main Monte Carlo.
+    pub replica: Vec<f64>,
+}
+
+/// An assumption as the summary shows it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AssumptionInfo {
+    /// Name.
+    pub name: String,
+    /// Group.
+    pub group: String,
+    /// Distribution in the file's unit.
+    pub distribution: String,
+    /// Justification.
+    pub justification: String,
+}
+
+/// Everything the study found.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UqSummary {
+    /// [`UQ_SCHEMA`].
+    pub schema: u32,
+    /// Master seed.
+    pub seed: u64,
+    /// Main Monte Carlo samples.
+    pub samples: usize,
+    /// The assumptions.
+    pub assumptions: Vec<AssumptionInfo>,
+    /// Per cell.
+    pub cells: Vec<CellSummary>,
+    /// Table 2 comparison.
+    pub table2: Vec<Table2Row>,
+    /// The gap diagnosis.
+    pub gap: Option<GapDiagnosis>,
+}
+
+/// Describes a distribution in the assumption's file unit.
+pub fn describe(d: &Distribution, unit: &str, unit_si: f64) -> String {
+    let u = |v: f64| format!("{}", sig(v / unit_si));
+    match d {
+        Distribution::Fixed(v) => format!("fixed {} {unit}", u(*v)),
+        Distribution::Uniform { low, high } => {
+            format!("uniform [{}, {}] {unit}", u(*low), u(*high))
+        }
+        Distribution::LogUniform { low, high } => {
+            format!("log-uniform [{}, {}] {unit}", u(*low), u(*high))
+        }
+        Distribution::Normal { mean, sd } => format!("normal({}, sd {}) {unit}", u(*mean), u(*sd)),
+        Distribution::Choice { labels, weights } => {
+            let t: f64 = weights.iter().sum();
+            let parts: Vec<String> = labels
+                .iter()
+                .zip(weights)
+                .map(|(l, w)| format!("{l} {:.0} %", 100.0 * w / t))
+                .collect();
+            format!("choice: {}", parts.join(", "))
+        }
+    }
+}
+
+/// Six significant digits (so the summary reads back as written).
+fn sig(v: f64) -> f64 {
+    if v == 0.0 || !v.is_finite() {
+        return v;
+    }
+    let scale = 10f64.powi(5 - v.abs().log10().floor() as i32);
+    (v * scale).round() / scale
+}
+
+/// Builds the summary from every sample (any order: they are sorted here).
+pub fn summarize(
+    set: &AssumptionSet,
+    outcomes: &[SampleOutcome],
+    paper: &PaperData,
+) -> Result<UqSummary, UqError> {
+    let pick = |study: &str| {
+        let mut v: Vec<&SampleOutcome> = outcomes.iter().filter(|o| o.study == study).collect();
+        v.sort_by_key(|o| o.index);
+        v
+    };
+    let main = pick("replica");
+    let point = pick("point");
+    if main.len() < 4 {
+        return Err(UqError::TooFewSamples {
+            what: "the main Monte Carlo".into(),
+            needed: 4,
+            got: main.len(),
+        });
+    }
+    let runs = main[0].max_horizontal_m.len();
+    let ids = all_cells(runs);
+    let inputs = surrogate_inputs(set, &main);
+    let cells = ids
+        .iter()
+        .enumerate()
+        .map(|(k, id)| {
+            let vals: Vec<f64> = main.iter().map(|o| id.value(o)).collect();
+            cell_summary(
+                set,
+                *id,
+                k,
+                &vals,
+                point.first().map(|o| id.value(o)),
+                paper.cells.get(k),
+                &inputs,
+            )
+        })
+        .collect();
+    let table2 = paper
+        .table2
+        .iter()
+        .map(|g| Table2Row {
+            name: g.name.clone(),
+            unit: g.unit.clone(),
+            paper: g.paper_std.clone(),
+            replica: table2_sigma(&main, g),
+        })
+        .collect();
+    let gap = gap_diagnosis(set, outcomes, paper, &ids, &pick);
+    Ok(UqSummary {
+        schema: UQ_SCHEMA,
+        seed: set.seed,
+        samples: main.len(),
+        assumptions: set
+            .assumptions
+            .iter()
+            .map(|a| AssumptionInfo {
+                name: a.name.clone(),
+                group: a.group.clone(),
+                distribution: describe(&a.distribution, &a.unit, a.unit_si),
+                justification: a.justification.clone(),
+            })
+            .collect(),
+        cells,
+        table2,
+        gap,
+    })
+}
+
+fn table2_sigma(samples: &[&SampleOutcome], g: &Table2Group) -> Vec<f64> {
+    g.indices
+        .iter()
+        .map(|&i| {
+            let v: Vec<f64> = samples
+                .iter()
+                .filter_map(|o| o.error42.get(i).copied())
+                .collect();
+            mean_sd(&v).1 / g.unit_si
+        })
+        .collect()
+}
+
+/// Surrogate inputs: standardised numeric assumptions that vary, one-hot columns (minus the
+/// first label) for choices; with the group of each column.
+struct Inputs {
+    z: Vec<Vec<f64>>,
+    groups: Vec<(String, Vec<usize>)>,
+}
+
+fn surrogate_inputs(set: &AssumptionSet, main: &[&SampleOutcome]) -> Inputs {
+    let mut cols: Vec<Vec<f64>> = Vec::new();
+    let mut groups: Vec<(String, Vec<usize>)> = Vec::new();
+    for (i, a) in set.assumptions.iter().enumerate() {
+        if a.knob.is_per_element() || !a.distribution.varies() {
+            continue;
+        }
+        let raw: Vec<f64> = main.iter().map(|o| o.values[i].unwrap_or(0.0)).collect();
+        let mut new_cols = match a.distribution.labels() {
+            Some(labels) => (1..labels.len())
+                .map(|l| raw.iter().map(|v| f64::from(*v as usize == l)).collect())
+                .collect(),
+            None => vec![raw],
+        };
+        let start = cols.len();
+        cols.append(&mut new_cols);
+        let idx: Vec<usize> = (start..cols.len()).collect();
+        match groups.iter_mut().find(|(g, _)| *g == a.group) {
+            Some((_, v)) => v.extend(idx),
+            None => groups.push((a.group.clone(), idx)),
+        }
+    }
+    let rows: Vec<Vec<f64>> = (0..main.len())
+        .map(|r| cols.iter().map(|c| c[r]).collect())
+        .collect();
+    Inputs {
+        z: stats::standardise(&rows),
+        groups,
+    }
+}
+
+fn cell_summary(
+    set: &AssumptionSet,
+    id: CellId,
+    k: usize,
+    vals: &[f64],
+    point: Option<f64>,
+    paper: Option<&PaperCell>,
+    inputs: &Inputs,
+) -> CellSummary {
+    let seed = set.seed ^ (0x5eed_0000 + k as u64);
+    let se = bootstrap_quantile_se(vals, &[0.05, 0.5, 0.95], BOOTSTRAP_RESAMPLES, seed);
+    let median = quantile(vals, 0.5);
+    let validation = paper.map(|p| {
+        let floor = match id.kind {
+            CellKind::Improvement => 0.0,
+            _ => FLOOR_M / NMI_M,
+        };
+        Validation::new(
+            median,
+            p.value,
+            se[1].hypot(floor),
+            mean_sd(vals).1,
+            p.scatter,
+        )
+    });
+    let y: Vec<f64> = vals.iter().map(|v| crate::gap::transform(id, *v)).collect();
+    let sensitivity = (!inputs.groups.is_empty())
+        .then(|| stats::fit_surrogate(&inputs.z, &y))
+        .flatten()
+        .map(|fit| {
+            let g: Vec<Vec<usize>> = inputs.groups.iter().map(|(_, v)| v.clone()).collect();
+            let idx: Vec<IndexInterval> = stats::group_indices_bootstrap(
+                &inputs.z,
+                &y,
+                &fit,
+                &g,
+                BOOTSTRAP_RESAMPLES / 2,
+                seed,
+            );
+            let mut groups: Vec<GroupIndex> = inputs
+                .groups
+                .iter()
+                .zip(idx)
+                .map(|((name, _), i)| GroupIndex {
+                    group: name.clone(),
+                    first_order: i.value,
+                    low: i.low,
+                    high: i.high,
+                })
+                .collect();
+            groups.sort_by(|a, b| b.first_order.total_cmp(&a.first_order));
+            CellSensitivity {
+                r2_loo: fit.r2_loo,
+                r2: fit.r2,
+                lambda: fit.lambda,
+                groups,
+            }
+        });
+    CellSummary {
+        cell: id.label(),
+        point: point.unwrap_or(f64::NAN),
+        median,
+        p05: quantile(vals, 0.05),
+        p95: quantile(vals, 0.95),
+        bootstrap_se: [se[0], se[1], se[2]],
+        validation,
+        sensitivity,
+    }
+}
+
+fn gap_diagnosis<'a>(
+    set: &AssumptionSet,
+    _outcomes: &[SampleOutcome],
+    paper: &PaperData,
+    ids: &[CellId],
+    pick: &dyn Fn(&str) -> Vec<&'a SampleOutcome>,
+) -> Option<GapDiagnosis> {
+    if paper.cells.len() != ids.len() {
+        return None;
+    }
+    let studies: Vec<(String, Vec<&SampleOutcome>)> = set
+        .candidates
+        .iter()
+        .map(|c| (c.name.clone(), pick(&c.name)))
+        .filter(|(_, s)| s.len() >= 2)
+        .collect();
+    let cands: Vec<CandidateCells<'_>> = studies
+        .iter()
+        .map(|(name, s)| CandidateCells {
+            name,
+            cells: ids
+                .iter()
+                .map(|id| s.iter().map(|o| id.value(o)).collect())
+                .collect(),
+            table2_sigma: paper
+                .table2
+                .iter()
+                .flat_map(|g| table2_sigma(s, g))
+                .collect(),
+        })
+        .collect();
+    let table2: Vec<f64> = paper
+        .table2
+        .iter()
+        .flat_map(|g| g.paper_std.iter().copied())
+        .collect();
+    diagnose(ids, &paper.cells, &cands, &set.choose_on, &table2)
+}
