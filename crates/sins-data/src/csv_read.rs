@@ -218,6 +218,7 @@ pub(crate) fn open_csv(path: &Path, mut f: File) -> Result<(DatasetInfo, CsvSour
         }
         n_rows += 1;
     }
+    parser.time.finish(path)?;
     if n_rows == 0 {
         return Err(DataError::Empty {
             file: path.to_path_buf(),
@@ -346,6 +347,7 @@ impl CsvSource {
         };
         while batch.samples.len() < MAX_BATCH_ROWS {
             let Some((line_no, line)) = self.lines.next_line()? else {
+                self.parser.time.finish(&info.path)?;
                 break;
             };
             if line.trim().is_empty() {

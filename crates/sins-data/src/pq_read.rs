@@ -280,6 +280,9 @@ fn decoder_thread(
         }
         cols.first_row += cols.n_rows as u64;
     }
+    if let Err(e) = time.finish(path) {
+        let _ = tx.send(Err(e));
+    }
 }
 
 /// Decode row group `rg_index` into `cols` (whose `first_row` is already the group's first row).

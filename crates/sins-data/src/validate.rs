@@ -1,5 +1,10 @@
 //! Row checks shared by the readers and the writer: finite values and a regular, strictly
 //! increasing time axis that agrees with the metadata sample rate.
+//!
+//! A step that disagrees with the sample interval is reported one row late: when the next row
+//! goes back in time, the two rows are out of order (e.g. a swapped pair) and the error says
+//! that `t_s` is not increasing there, rather than calling the first of them a gap. Callers
+//! therefore call [`TimeCheck::finish`] after the last row.
 
 use std::path::Path;
 
@@ -15,6 +20,9 @@ pub(crate) struct TimeCheck {
     dt_s: f64,
     prev_t_s: Option<f64>,
     first_step_seen: bool,
+    /// A gap found at the latest row (where, step in s), reported unless the next row goes
+    /// back in time.
+    pending_gap: Option<(RowRef, f64)>,
 }
 
 impl TimeCheck {
@@ -25,6 +33,7 @@ impl TimeCheck {
             dt_s: 1.0 / rate_hz,
             prev_t_s: None,
             first_step_seen: false,
+            pending_gap: None,
         }
     }
 
@@ -40,7 +49,7 @@ impl TimeCheck {
         let (Some(&last), Some(prev)) = (t_s.last(), self.prev_t_s) else {
             return self.check_rows(file, first_row, t_s);
         };
-        if !self.first_step_seen {
+        if !self.first_step_seen || self.pending_gap.is_some() {
             return self.check_rows(file, first_row, t_s);
         }
         let (dt, frac) = (self.dt_s, STEP_TOLERANCE_FRACTION);
@@ -69,8 +78,9 @@ impl TimeCheck {
     }
 
     /// Check the next row's (finite) `t_s`. The first step that disagrees with 1/rate is a
-    /// [`DataError::SampleRateMismatch`] when it is the file's first step, a
-    /// [`DataError::TimeGap`] otherwise.
+    /// [`DataError::SampleRateMismatch`] when it is the file's first step; a later one is a
+    /// [`DataError::TimeGap`], reported at the next row (or by [`TimeCheck::finish`]) unless
+    /// that row goes back in time, which is a [`DataError::TimeNotIncreasing`].
     #[inline]
     pub fn check(&mut self, file: &Path, at: RowRef, t_s: f64) -> Result<(), DataError> {
         if let Some(prev_t_s) = self.prev_t_s {
@@ -82,31 +92,52 @@ impl TimeCheck {
                     t_s,
                 });
             }
-            let step_s = t_s - prev_t_s;
-            // 1 % of the interval plus a few ulps of the absolute time for rounding of t_s.
-            let tol_s = STEP_TOLERANCE_FRACTION * self.dt_s + 4.0 * f64::EPSILON * t_s.abs();
-            if (step_s - self.dt_s).abs() > tol_s {
-                return Err(if self.first_step_seen {
-                    DataError::TimeGap {
-                        file: file.to_path_buf(),
-                        at,
-                        step_s,
-                        expected_step_s: self.dt_s,
-                    }
-                } else {
-                    DataError::SampleRateMismatch {
-                        file: file.to_path_buf(),
-                        at,
-                        meta_rate_hz: self.rate_hz,
-                        step_s,
-                        implied_rate_hz: 1.0 / step_s,
-                    }
-                });
-            }
-            self.first_step_seen = true;
+            self.finish(file)?;
+            self.check_step(file, at, prev_t_s, t_s)?;
         }
         self.prev_t_s = Some(t_s);
         Ok(())
+    }
+
+    /// Check one step of `t_s` against 1/rate (see [`TimeCheck::check`]).
+    fn check_step(
+        &mut self,
+        file: &Path,
+        at: RowRef,
+        prev_t_s: f64,
+        t_s: f64,
+    ) -> Result<(), DataError> {
+        let step_s = t_s - prev_t_s;
+        // 1 % of the interval plus a few ulps of the absolute time for rounding of t_s.
+        let tol_s = STEP_TOLERANCE_FRACTION * self.dt_s + 4.0 * f64::EPSILON * t_s.abs();
+        if (step_s - self.dt_s).abs() <= tol_s {
+            self.first_step_seen = true;
+            return Ok(());
+        }
+        if !self.first_step_seen {
+            return Err(DataError::SampleRateMismatch {
+                file: file.to_path_buf(),
+                at,
+                meta_rate_hz: self.rate_hz,
+                step_s,
+                implied_rate_hz: 1.0 / step_s,
+            });
+        }
+        self.pending_gap = Some((at, step_s));
+        Ok(())
+    }
+
+    /// The gap found at the latest row, if any: call after the last row of `file`.
+    pub fn finish(&mut self, file: &Path) -> Result<(), DataError> {
+        match self.pending_gap.take() {
+            Some((at, step_s)) => Err(DataError::TimeGap {
+                file: file.to_path_buf(),
+                at,
+                step_s,
+                expected_step_s: self.dt_s,
+            }),
+            None => Ok(()),
+        }
     }
 }
 

@@ -244,6 +244,7 @@ impl DatasetWriter {
                 file: self.path.clone(),
             });
         }
+        self.time.finish(&self.path)?;
         let file = match self.sink.take() {
             Some(Sink::Parquet(p)) => p.finish()?,
             Some(Sink::Csv(c)) => c.finish()?,

@@ -130,6 +130,33 @@ fn gap_in_t_s() {
 }
 
 #[test]
+fn swapped_rows_are_out_of_order_not_a_gap() {
+    let dir = tempfile::tempdir().unwrap();
+    let swap = |c: &mut Vec<(String, Vec<f64>)>| c[0].1.swap(20, 21);
+    for p in both(dir.path(), "swapped", swap, good_kv()) {
+        let (err, msg) = fail(&p);
+        assert!(matches!(err, DataError::TimeNotIncreasing { .. }), "{msg}");
+        // Row 21 holds t_s = 0.105 s after row 20's 0.11 s.
+        assert!(
+            msg.contains("row 21") && msg.contains("0.105") && msg.contains("0.11 s"),
+            "{msg}"
+        );
+        assert!(!msg.contains("gap"), "{msg}");
+    }
+}
+
+#[test]
+fn gap_in_the_last_row_is_still_a_gap() {
+    let dir = tempfile::tempdir().unwrap();
+    let stretch_last = |c: &mut Vec<(String, Vec<f64>)>| c[0].1[39] += 0.005;
+    for p in both(dir.path(), "lastgap", stretch_last, good_kv()) {
+        let (err, msg) = fail(&p);
+        assert!(matches!(err, DataError::TimeGap { .. }), "{msg}");
+        assert!(msg.contains("row 39") && msg.contains("0.01 s"), "{msg}");
+    }
+}
+
+#[test]
 fn sample_rate_disagrees_with_t_s() {
     let dir = tempfile::tempdir().unwrap();
     for p in both(

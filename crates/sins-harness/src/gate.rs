@@ -30,6 +30,13 @@ pub struct Limits {
     pub min_improvement_percent: Option<f64>,
 }
 
+impl Limits {
+    /// True when these limits check nothing.
+    pub fn is_empty(&self) -> bool {
+        self.max_horizontal_nmi.is_empty() && self.min_improvement_percent.is_none()
+    }
+}
+
 /// A thresholds file.
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -76,31 +83,75 @@ impl Thresholds {
                 t.schema
             )));
         }
-        let all = std::iter::once(("default".to_string(), &t.default)).chain(
-            t.experiment
+        t.validate().map_err(bad)?;
+        Ok(t)
+    }
+
+    /// Every limit is a usable number and there is at least one; the message names the key.
+    fn validate(&self) -> Result<(), String> {
+        if self.is_empty() {
+            return Err(
+                "defines no checks: a gate that checks nothing cannot pass; give \
+                        max_horizontal_nmi or min_improvement_percent under [default] or \
+                        [experiment.NAME]"
+                    .into(),
+            );
+        }
+        let all = std::iter::once(("default".to_string(), &self.default)).chain(
+            self.experiment
                 .iter()
                 .map(|(k, v)| (format!("experiment.{k}"), v)),
         );
         for (at, l) in all {
             for (set, v) in &l.max_horizontal_nmi {
                 if !(v.is_finite() && *v > 0.0) {
-                    return Err(bad(format!(
+                    return Err(format!(
                         "{at}.max_horizontal_nmi.\"{set}\" = {v} must be a positive number of nautical miles"
-                    )));
+                    ));
                 }
             }
             if let Some(v) = l.min_improvement_percent
                 && !v.is_finite()
             {
-                return Err(bad(format!(
-                    "{at}.min_improvement_percent = {v} is not finite"
-                )));
+                return Err(format!("{at}.min_improvement_percent = {v} is not finite"));
             }
         }
-        Ok(t)
+        Ok(())
     }
 
-    /// Check every experiment of `summary`.
+    /// True when no limit is set anywhere (neither in `[default]` nor for any experiment).
+    pub fn is_empty(&self) -> bool {
+        self.default.is_empty() && self.experiment.values().all(Limits::is_empty)
+    }
+
+    /// Check every experiment of `summary`, read from `summary_path`; an error names that file
+    /// when there is nothing to check (no experiment, or none the limits apply to): a gate that
+    /// checks nothing must not pass.
+    pub fn check(
+        &self,
+        summary: &Summary,
+        summary_path: &Path,
+    ) -> Result<Vec<Check>, HarnessError> {
+        let malformed = |message: &str| HarnessError::Malformed {
+            path: summary_path.to_owned(),
+            message: message.to_string(),
+        };
+        if summary.experiments.is_empty() {
+            return Err(malformed(
+                "the summary has no experiments, so the gate would check nothing",
+            ));
+        }
+        let checks = self.evaluate(summary);
+        if checks.is_empty() {
+            return Err(malformed(
+                "no threshold applies to any experiment of this summary, so the gate would check nothing",
+            ));
+        }
+        Ok(checks)
+    }
+
+    /// Check every experiment of `summary` (no check at all when it has no experiment or the
+    /// limits are empty; [`Thresholds::check`] refuses that).
     pub fn evaluate(&self, summary: &Summary) -> Vec<Check> {
         let mut checks = Vec::new();
         for name in self.experiment.keys() {

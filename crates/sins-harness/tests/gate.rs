@@ -153,3 +153,34 @@ fn malformed_summary_and_thresholds_name_the_problem() {
     let e = Thresholds::load(&p).unwrap_err().to_string();
     assert!(e.contains("default.max_horizontal_nmi.\"42-state\""), "{e}");
 }
+
+#[test]
+fn thresholds_that_check_nothing_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in [
+        ("bare.toml", "schema = 1\n"),
+        ("tables.toml", "schema = 1\n[default]\n[experiment.nav1]\n"),
+    ] {
+        let e = Thresholds::load(&write(dir.path(), name, text))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(name) && e.contains("no checks"), "{e}");
+    }
+}
+
+#[test]
+fn a_summary_without_experiments_checks_nothing_and_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let t = Thresholds::load(&write(dir.path(), "t.toml", THRESHOLDS)).unwrap();
+    let mut s = summary(2.0, 3.0);
+    assert_eq!(t.check(&s, Path::new("full.json")).unwrap().len(), 3);
+    s.experiments.clear();
+    let e = t
+        .check(&s, Path::new("hollow.json"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("hollow.json") && e.contains("no experiments"),
+        "{e}"
+    );
+}

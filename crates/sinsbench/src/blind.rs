@@ -1,5 +1,6 @@
 //! `sinsbench blind`: the blind validation suite of the gap diagnosis.
 
+use crate::out::say;
 use crate::{defaults, progress};
 use anyhow::{Context, Result};
 use sins_diag::input::DiagnoseConfig;
@@ -62,7 +63,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     std::fs::write(&path, &result.markdown)
         .with_context(|| format!("cannot write {}", path.display()))?;
     let g = &result.grades;
-    println!(
+    say!(
         "top-1 {}/{}, false alarms {}/{}, out-of-catalogue unexplained {}/{}, magnitudes within 3 sigma {}/{}, median shrinkage {}",
         g.top1.0,
         g.top1.1,
@@ -74,11 +75,10 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         g.magnitudes_within_3_sigma.1,
         g.median_shrinkage_percent
             .map_or("-".to_string(), |v| format!("{v:.0} %"))
-    );
-    println!(
+    )?;
+    say!(
         "wrote {} (suite SHA-256 {})",
         path.display(),
         result.index.suite_sha256
-    );
-    Ok(())
+    )
 }

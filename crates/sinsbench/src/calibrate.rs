@@ -1,5 +1,6 @@
 //! `sinsbench calibrate`: the paper's system-level calibration on any calibration dataset.
 
+use crate::out::say;
 use crate::progress;
 use anyhow::{Context, Result, bail};
 use polars::prelude::{Column, DataFrame};
@@ -123,13 +124,13 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         .map(|(entity, points)| sins_viz::Series { entity, points })
         .collect();
     sins_viz::write_series(&rrd, "calibration", &series)?;
-    print_result(&result);
-    println!(
+    print_result(&result)?;
+    say!(
         "wrote {}, {} and {}",
         args.out.display(),
         history.display(),
         rrd.display()
-    );
+    )?;
     Ok(())
 }
 
@@ -141,11 +142,15 @@ pub fn history_path(out: &Path) -> PathBuf {
     out.with_file_name(format!("{stem}_history.parquet"))
 }
 
-fn print_result(r: &CalibrationResult) {
-    println!(
+fn print_result(r: &CalibrationResult) -> Result<()> {
+    say!(
         "{:<8} {:>14} {:>12} {:<12} {:>10}",
-        "coeff", "estimate", "1-sigma", "unit", "σ/σ0"
-    );
+        "coeff",
+        "estimate",
+        "1-sigma",
+        "unit",
+        "σ/σ0"
+    )?;
     let est = coefficient_table(&r.params);
     let sig = coefficient_table(&r.sigma);
     for (k, (e, s)) in est.iter().zip(&sig).enumerate() {
@@ -154,10 +159,14 @@ fn print_result(r: &CalibrationResult) {
             .states
             .get(9 + k)
             .map_or(f64::NAN, |o| o.ratio);
-        println!(
+        say!(
             "{:<8} {:>14.5} {:>12.5} {:<12} {:>10.4}",
-            e.name, e.value, s.value, e.unit, ratio
-        );
+            e.name,
+            e.value,
+            s.value,
+            e.unit,
+            ratio
+        )?;
     }
     let weak = r.observability.weak_states();
     if weak.is_empty() {
@@ -167,9 +176,9 @@ fn print_result(r: &CalibrationResult) {
             .iter()
             .map(|o| o.ratio)
             .fold(0.0, f64::max);
-        println!("every state observable: the largest final/initial sigma ratio is {worst:.4}");
+        say!("every state observable: the largest final/initial sigma ratio is {worst:.4}")
     } else {
-        println!("weakly observable under this scheme: {}", weak.join(", "));
+        say!("weakly observable under this scheme: {}", weak.join(", "))
     }
 }
 

@@ -3,6 +3,7 @@
 //! filter (Table 3 with the truth column).
 
 use crate::defaults;
+use crate::out::{note, say};
 use anyhow::{Context, Result};
 use sins_calstudy::{StudyConfig, render_markdown, run_study};
 use std::path::PathBuf;
@@ -27,7 +28,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     config.seeds = args.seeds as usize;
     config.threads = args.threads as usize;
     if !quiet {
-        eprintln!(
+        note!(
             "calibration study: {} Monte Carlo seeds of the 4.2 h run (42-state), the 30-state filter, \
              four least-squares temperature points and the proposed run ({} calibrations, about {} s on 2 cores)",
             config.seeds,
@@ -45,6 +46,5 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         }
         Ok(vec!["report.md".into(), "summary.json".into()])
     })?;
-    println!("wrote {}/report.md and summary.json", files.dir.display());
-    Ok(())
+    say!("wrote {}/report.md and summary.json", files.dir.display())
 }

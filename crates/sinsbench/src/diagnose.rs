@@ -1,7 +1,8 @@
 //! `sinsbench diagnose`: where real data part from the twin, which unmodelled effect explains
 //! it, and how far the gap shrinks on withheld runs.
 
-use crate::defaults;
+use crate::out::{note, say};
+use crate::{argcheck, defaults};
 use anyhow::{Context, Result, bail};
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::noise::NoiseSpec;
@@ -39,7 +40,7 @@ pub struct Args {
     #[arg(long, value_name = "NAME")]
     pub calibration_run: Option<String>,
     /// Worker threads (results do not depend on it).
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = 2, value_parser = argcheck::threads)]
     pub threads: usize,
 }
 
@@ -90,14 +91,14 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     );
     let config = DiagnoseConfig {
         candidates: args.candidates.clone(),
-        threads: args.threads.max(1),
+        threads: args.threads,
         ..DiagnoseConfig::default()
     };
     config
         .candidate_kinds()
         .map_err(|e| anyhow::anyhow!("--candidates: {e}"))?;
     if !quiet {
-        eprintln!(
+        note!(
             "diagnose: replaying {} run(s) with {} and fitting the catalogue against the twin",
             datasets.len(),
             args.params.display()
@@ -119,21 +120,20 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         .map(|n| n.to_string_lossy().into_owned())
         .context("--out must name a directory")?;
     let dir = write_diagnosis(&parent, &name, &outcome)?;
-    println!("verdict: {:?}", outcome.diagnosis.verdict);
+    say!("verdict: {:?}", outcome.diagnosis.verdict)?;
     for c in outcome.diagnosis.candidates.iter().take(3) {
-        println!(
+        say!(
             "  {:<32} dchi2 {:>10.1}  dBIC {:>10.1}  {}",
             c.kind,
             c.dchi2,
             c.delta_bic,
             if c.passes { "passes" } else { "" }
-        );
+        )?;
     }
-    println!(
+    say!(
         "wrote {} (replays {:.1} s, diagnosis {:.1} s)",
         dir.display(),
         outcome.replay_s,
         outcome.diagnose_s
-    );
-    Ok(())
+    )
 }

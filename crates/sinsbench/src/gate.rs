@@ -1,5 +1,6 @@
 //! `sinsbench gate`: the release gate on a report's summary.
 
+use crate::out::say;
 use crate::report;
 use anyhow::{Context, Result, bail};
 use sins_harness::gate::{Thresholds, junit_xml};
@@ -38,20 +39,55 @@ pub struct GateFailed {
     pub total: usize,
 }
 
-/// Run `gate`.
+/// Run `gate`: the thresholds are read and validated first, so that a bad thresholds file is
+/// refused before `--config` runs a whole report.
 pub fn run(args: Args, quiet: bool) -> Result<()> {
-    let (summary_path, thresholds_path) = match (&args.summary, &args.config) {
-        (Some(s), None) => (
-            s.clone(),
-            args.thresholds
+    let (thresholds_path, report) = thresholds_and_report(&args)?;
+    let thresholds = Thresholds::load(&thresholds_path)?;
+    let summary_path = match (report, &args.summary) {
+        (Some(r), _) => report::produce(&r, quiet)?,
+        (None, Some(s)) => s.clone(),
+        (None, None) => bail!("give --summary FILE --thresholds FILE, or --config FILE"),
+    };
+    let summary = Summary::from_json_file(&summary_path)?;
+    let checks = thresholds.check(&summary, &summary_path).with_context(|| {
+        format!(
+            "nothing to check with thresholds {}",
+            thresholds_path.display()
+        )
+    })?;
+    if let Some(j) = &args.junit {
+        let xml = junit_xml(&format!("sinsbench gate {}", summary.name), &checks);
+        std::fs::write(j, xml).with_context(|| format!("cannot write {}", j.display()))?;
+    }
+    for c in &checks {
+        say!("{} {}", if c.passed { "PASS" } else { "FAIL" }, c.message)?;
+    }
+    let failed = checks.iter().filter(|c| !c.passed).count();
+    if failed > 0 {
+        return Err(GateFailed {
+            failed,
+            total: checks.len(),
+        }
+        .into());
+    }
+    say!("gate passed: {} checks", checks.len())
+}
+
+/// The thresholds file to use and, with `--config`, the report to run first.
+fn thresholds_and_report(args: &Args) -> Result<(PathBuf, Option<report::Args>)> {
+    match (&args.summary, &args.config) {
+        (Some(_), None) => {
+            let t = args
+                .thresholds
                 .clone()
-                .context("--summary needs --thresholds FILE")?,
-        ),
+                .context("--summary needs --thresholds FILE")?;
+            Ok((t, None))
+        }
         (None, Some(c)) => {
             let config = sins_harness::config::load_report_config(c)?;
             let thresholds = match (&args.thresholds, &config.gate) {
-                (Some(t), _) => t.clone(),
-                (None, Some(t)) => t.clone(),
+                (Some(t), _) | (None, Some(t)) => t.clone(),
                 (None, None) => bail!(
                     "{}: no 'gate = \"...\"' key and no --thresholds given",
                     c.display()
@@ -60,29 +96,10 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             let r = report::Args {
                 config: Some(c.clone()),
                 reports_dir: args.reports_dir.clone(),
+                uq: None,
             };
-            (report::produce(&r, quiet)?, thresholds)
+            Ok((thresholds, Some(r)))
         }
         _ => bail!("give --summary FILE --thresholds FILE, or --config FILE"),
-    };
-    let thresholds = Thresholds::load(&thresholds_path)?;
-    let summary = Summary::from_json_file(&summary_path)?;
-    let checks = thresholds.evaluate(&summary);
-    if let Some(j) = &args.junit {
-        let xml = junit_xml(&format!("sinsbench gate {}", summary.name), &checks);
-        std::fs::write(j, xml).with_context(|| format!("cannot write {}", j.display()))?;
     }
-    let failed = checks.iter().filter(|c| !c.passed).count();
-    for c in &checks {
-        println!("{} {}", if c.passed { "PASS" } else { "FAIL" }, c.message);
-    }
-    if failed > 0 {
-        return Err(GateFailed {
-            failed,
-            total: checks.len(),
-        }
-        .into());
-    }
-    println!("gate passed: {} checks", checks.len());
-    Ok(())
 }

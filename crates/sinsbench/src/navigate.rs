@@ -1,6 +1,7 @@
 //! `sinsbench navigate`: replay one dataset under one parameter set.
 
-use crate::progress;
+use crate::out::say;
+use crate::{argcheck, progress};
 use anyhow::{Context, Result};
 use polars::prelude::{Column, DataFrame};
 use sins_data::{DatasetInfo, DatasetReader};
@@ -25,8 +26,8 @@ pub struct Args {
     /// `truth` = the initial attitude recorded in the dataset's metadata (simulated data).
     #[arg(long, value_enum, default_value_t = StartMode::Align)]
     pub start: StartMode,
-    /// Self-alignment time (s).
-    #[arg(long, default_value_t = 1200.0)]
+    /// Self-alignment time (s, positive).
+    #[arg(long, default_value_t = 1200.0, allow_negative_numbers = true, value_parser = argcheck::positive_f64)]
     pub align_s: f64,
     /// Attitude/velocity increment algorithm. `reconstruct` (default): high-order look-ahead
     /// reconstruction (6th-order Magnus on a 13-sample interpolation of the increments), whose
@@ -97,12 +98,12 @@ impl Algorithm {
 /// Run `navigate`.
 pub fn run(args: Args, quiet: bool) -> Result<()> {
     let (info, points, summary) = replay(&args, quiet)?;
-    print_summary(&info, &summary);
+    print_summary(&info, &summary)?;
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         let path = dir.join("errors.parquet");
         write_errors(&path, &info, &points)?;
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display())?;
     }
     Ok(())
 }
@@ -185,9 +186,9 @@ fn label(info: &DatasetInfo, segment: u16) -> &str {
 }
 
 /// Print the summary table of a replay.
-pub fn print_summary(info: &DatasetInfo, s: &ReplaySummary) {
-    println!("{}", info.path.display());
-    println!(
+pub fn print_summary(info: &DatasetInfo, s: &ReplaySummary) -> Result<()> {
+    say!("{}", info.path.display())?;
+    say!(
         "  max horizontal error {:.4} nmi ({:.1} m) at t = {:.2} h in '{}'; RMS {:.1} m; final {:.1} m; navigated {:.2} h",
         s.max_horizontal_nmi(),
         s.max_horizontal_m,
@@ -196,16 +197,17 @@ pub fn print_summary(info: &DatasetInfo, s: &ReplaySummary) {
         s.rms_horizontal_m,
         s.final_horizontal_m,
         s.navigated_s / 3600.0
-    );
+    )?;
     for g in &s.segments {
-        println!(
+        say!(
             "  segment {:<12} max {:>10.3} m ({:.5} nmi) at t = {:.2} h",
             label(info, g.segment),
             g.max_horizontal_m,
             g.max_horizontal_m / NMI_M,
             g.t_max_s / 3600.0
-        );
+        )?;
     }
+    Ok(())
 }
 
 fn write_errors(path: &std::path::Path, info: &DatasetInfo, points: &[ErrorPoint]) -> Result<()> {

@@ -1,5 +1,6 @@
 //! `sinsbench report`: the paper's Table 5, replicated or on your own data.
 
+use crate::out::say;
 use crate::{defaults, progress};
 use anyhow::Result;
 use sins_harness::config::load_report_config;
@@ -18,6 +19,11 @@ pub struct Args {
     /// Directory that receives <NAME>/ (report.md, summary.json, plots, .rrd, error tracks).
     #[arg(long, default_value = "reports")]
     pub reports_dir: PathBuf,
+    /// A `replica-uq` output directory: report.md then shows, per Table 5 cell, the Monte Carlo
+    /// median and 5-95 % interval and the V&V 20 verdict against the paper beside the point
+    /// replica (read from DIR/summary.json; nothing is recomputed).
+    #[arg(long)]
+    pub uq: Option<PathBuf>,
 }
 
 /// Run the configured report and write it; returns the summary path.
@@ -25,14 +31,16 @@ pub fn produce(args: &Args, quiet: bool) -> Result<PathBuf> {
     let path = args.config.clone().unwrap_or_else(defaults::report_config);
     let config = load_report_config(&path)?;
     let mut bars = progress::Bars::new(quiet);
-    let run = sins_report::run_report(&config, &mut bars)?;
+    let uq = args.uq.as_deref().map(load_uq_summary).transpose()?;
+    let mut run = sins_report::run_report(&config, &mut bars)?;
+    run.appendix = uq.as_ref().map(sins_report::uq_table_for_report);
     let files = sins_report::write_report(&args.reports_dir, &run)?;
-    print_table(&run.summary);
-    println!(
+    print_table(&run.summary)?;
+    say!(
         "wrote {} ({} files: report.md, summary.json, plots, .rrd, error tracks)",
         files.dir.display(),
         files.files.len()
-    );
+    )?;
     Ok(files.dir.join("summary.json"))
 }
 
@@ -41,7 +49,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     produce(&args, quiet).map(|_| ())
 }
 
-fn print_table(s: &sins_harness::summary::Summary) {
+fn print_table(s: &sins_harness::summary::Summary) -> Result<()> {
     for e in &s.experiments {
         let cells: Vec<String> = e
             .results
@@ -58,6 +66,22 @@ fn print_table(s: &sins_harness::summary::Summary) {
         let imp = e
             .improvement_percent
             .map_or(String::new(), |v| format!("; improvement {v:.1} %"));
-        println!("{}: {}{imp}", e.name, cells.join(", "));
+        say!("{}: {}{imp}", e.name, cells.join(", "))?;
     }
+    Ok(())
+}
+
+/// The summary of a `replica-uq` directory.
+fn load_uq_summary(dir: &std::path::Path) -> Result<sins_uq::summary::UqSummary> {
+    use anyhow::Context;
+    let path = dir.join("summary.json");
+    let text = std::fs::read_to_string(&path).with_context(|| {
+        format!(
+            "{}: no replica-uq summary (run `sinsbench replica-uq --out {}` first)",
+            path.display(),
+            dir.display()
+        )
+    })?;
+    serde_json::from_str(&text)
+        .with_context(|| format!("{}: not a replica-uq summary", path.display()))
 }

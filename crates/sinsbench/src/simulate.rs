@@ -1,5 +1,6 @@
 //! `sinsbench simulate`: experiment definition → one dataset per run.
 
+use crate::out::say;
 use crate::{defaults, progress};
 use anyhow::{Context, Result};
 use sins_sim::Scenario;
@@ -105,13 +106,13 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         scenario.effects.extend(extra.iter().cloned());
         let file = out.join(format!("{}.{}", scenario.name, args.format.extension()));
         let summary = simulate_one(&experiment.name, &scenario, &file, quiet)?;
-        println!(
+        say!(
             "{}: {} samples, {:.2} h, {:.1} MB",
             summary.path.display(),
             summary.n_rows,
             summary.n_rows as f64 / scenario.rate_hz / 3600.0,
             summary.n_bytes as f64 / 1e6
-        );
+        )?;
     }
     Ok(())
 }

@@ -8,8 +8,9 @@ pub fn peak_rss_mb() -> Option<f64> {
     Some(kb / 1024.0)
 }
 
-/// Print `stats: wall_s=… peak_rss_mb=…` on stderr (parsed by `sinsbench bench`).
+/// Print `stats: wall_s=… peak_rss_mb=…` on stderr (parsed by `sinsbench bench`); a closed
+/// stderr is ignored.
 pub fn print(wall: std::time::Duration) {
     let rss = peak_rss_mb().map_or("unknown".to_string(), |m| format!("{m:.1}"));
-    eprintln!("stats: wall_s={:.3} peak_rss_mb={rss}", wall.as_secs_f64());
+    crate::out::note!("stats: wall_s={:.3} peak_rss_mb={rss}", wall.as_secs_f64());
 }
