@@ -156,27 +156,26 @@ pub fn intervals_figure(s: &UqSummary) -> Figure {
         .panel(imp.x_range(0.3, xi + 0.7))
 }
 
-/// Grouped first-order Sobol indices (bars with their 90 % bootstrap intervals) of the first
-/// experiment's three cells.
+/// First-order Sobol indices of the leading assumptions (bars with their 90 % bootstrap
+/// intervals) for the first experiment's three cells.
 pub fn sensitivity_figure(s: &UqSummary) -> Figure {
-    let mut fig = Figure::new().title(
-        "Global sensitivity (grouped first-order Sobol indices of the surrogate, 90 % bootstrap)",
-    );
+    let mut fig = Figure::new()
+        .title("Global sensitivity (first-order Sobol indices from the full runs, 90 % bootstrap)");
     for c in s.cells.iter().take(3) {
         let Some(sens) = &c.sensitivity else { continue };
-        let mut p = Panel::new(format!(
-            "{} (surrogate LOO R2 {:.2}); bars: groups, largest first",
-            c.cell, sens.r2_loo
-        ))
-        .y_label("index")
-        .y_range(0.0, 1.0);
-        for (k, g) in sens.groups.iter().enumerate() {
+        let title = format!(
+            "{}: first-order index of the 6 leading assumptions (sum of all {:.2})",
+            c.cell, sens.sum_first_order
+        );
+        let mut p = Panel::new(title).y_label("index").y_range(0.0, 1.0);
+        let shown = sens.inputs.len().min(6);
+        for (k, g) in sens.inputs.iter().take(shown).enumerate() {
             let x = k as f64 + 1.0;
             let color = SERIES_PALETTE[k % SERIES_PALETTE.len()];
-            p = p.line(segment(&g.group, x, 0.0, g.first_order, color, 14.0));
+            p = p.line(segment(&g.name, x, 0.0, g.first_order, color, 14.0));
             p = p.line(segment("", x + 0.2, g.low, g.high, Rgb::BLACK, 2.0));
         }
-        fig = fig.panel(p.x_range(0.3, sens.groups.len() as f64 + 0.7));
+        fig = fig.panel(p.x_range(0.3, shown as f64 + 0.7));
     }
     fig
 }

@@ -13,10 +13,20 @@ fn experiments() -> PathBuf {
 fn shipped_assumptions_load_with_justifications_and_table3_means() {
     let study = load_uq_study(&experiments().join("replica/assumptions.toml")).unwrap();
     let set = &study.set;
-    assert!(set.assumptions.len() >= 40, "{} assumptions", set.assumptions.len());
-    assert!(set.assumptions.iter().all(|a| a.justification.len() > 20), "every entry justified");
+    assert!(
+        set.assumptions.len() >= 40,
+        "{} assumptions",
+        set.assumptions.len()
+    );
+    assert!(
+        set.assumptions.iter().all(|a| a.justification.len() > 20),
+        "every entry justified"
+    );
     // Table 3 "proposed" column (the paper's reference CSV), in the state order of eq (8).
-    let t3 = std::fs::read_to_string(experiments().join("reference/table3_temperature_coefficients.csv")).unwrap();
+    let t3 = std::fs::read_to_string(
+        experiments().join("reference/table3_temperature_coefficients.csv"),
+    )
+    .unwrap();
     let proposed: Vec<f64> = t3
         .lines()
         .filter(|l| !l.starts_with('#') && l.contains(','))
@@ -26,19 +36,33 @@ fn shipped_assumptions_load_with_justifications_and_table3_means() {
         .assumptions
         .iter()
         .filter_map(|a| match (a.knob, &a.distribution) {
-            (Knob::TruthCoefficient(i), Distribution::Normal { mean, .. }) if i >= 21 => Some((i, mean / a.unit_si, a.unit_si)),
+            (Knob::TruthCoefficient(i), Distribution::Normal { mean, .. }) if i >= 21 => {
+                Some((i, mean / a.unit_si, a.unit_si))
+            }
             _ => None,
         })
         .collect();
     assert_eq!(means.len(), 12, "all 12 temperature coefficients drawn");
     assert_eq!(proposed.len(), 12, "Table 3 CSV: {t3}");
     for (i, m, _) in &means {
-        assert!((m - proposed[i - 21]).abs() < 1e-9, "coefficient {i}: mean {m} vs Table 3 {}", proposed[i - 21]);
+        assert!(
+            (m - proposed[i - 21]).abs() < 1e-9,
+            "coefficient {i}: mean {m} vs Table 3 {}",
+            proposed[i - 21]
+        );
     }
     // The base replica is the report's: three 15 h runs and the 4.2 h calibration.
     assert_eq!(study.base.navigation.len(), 3);
     assert_eq!(study.paper.cells.len(), 9);
-    assert_eq!(study.paper.table2.iter().map(|g| g.paper_std.len()).sum::<usize>(), 33);
+    assert_eq!(
+        study
+            .paper
+            .table2
+            .iter()
+            .map(|g| g.paper_std.len())
+            .sum::<usize>(),
+        33
+    );
     assert_eq!(set.candidates[0].name, "as_built");
 }
 
@@ -50,17 +74,40 @@ fn bad_entries_are_refused_by_name() {
         .unwrap()
         .replace("../", &format!("{}/", experiments().display()));
     for (from, to, expect) in [
-        ("knob = \"accel_offset_scale\"", "knob = \"accel_offset_scael\"", "unknown knob 'accel_offset_scael'"),
-        ("uniform = [10.0, 30.0]", "uniform = [30.0, 10.0]", "nav_temperature_drop"),
-        ("set = { cal30_chamber = \"ramp\" }", "set = { cal30_chamber = \"warm\" }", "'warm' is not one of"),
-        ("choose_on = [\"exp1 without\"]", "choose_on = [\"exp9 without\"]", "beyond the replica's 3 runs"),
-        ("knob = \"truth:TB_ax\"", "knob = \"truth:TB_qx\"", "unknown knob 'truth:TB_qx'"),
+        (
+            "knob = \"accel_offset_scale\"",
+            "knob = \"accel_offset_scael\"",
+            "unknown knob 'accel_offset_scael'",
+        ),
+        (
+            "uniform = [10.0, 30.0]",
+            "uniform = [30.0, 10.0]",
+            "nav_temperature_drop",
+        ),
+        (
+            "set = { cal30_chamber = \"ramp\" }",
+            "set = { cal30_chamber = \"warm\" }",
+            "'warm' is not one of",
+        ),
+        (
+            "choose_on = [\"exp1 without\"]",
+            "choose_on = [\"exp9 without\"]",
+            "beyond the replica's 3 runs",
+        ),
+        (
+            "knob = \"truth:TB_ax\"",
+            "knob = \"truth:TB_qx\"",
+            "unknown knob 'truth:TB_qx'",
+        ),
     ] {
         assert!(text.contains(from), "{from}");
         let f = dir.join("a.toml");
         std::fs::write(&f, text.replacen(from, to, 1)).unwrap();
         let err = load_uq_study(&f).unwrap_err().to_string();
-        assert!(err.contains(expect) && err.contains("a.toml"), "{from} -> {err}");
+        assert!(
+            err.contains(expect) && err.contains("a.toml"),
+            "{from} -> {err}"
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

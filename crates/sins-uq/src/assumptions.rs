@@ -197,7 +197,7 @@ impl Knob {
     }
 
     /// True when each draw of this knob is independent per pattern and axis (not one value a
-    /// sample): such values are not surrogate inputs (they go to the residual).
+    /// sample): such values get no sensitivity index of their own (they stay in the residual).
     pub fn is_per_element(self) -> bool {
         matches!(self, Knob::VibrationPhaseRad)
     }

@@ -8,7 +8,7 @@
 //! - [`apply`]: a draw turned into the concrete calibration and navigation scenarios;
 //! - [`sample`]: one Monte Carlo sample end to end (simulate, calibrate 30 and 42 states,
 //!   simulate and replay the navigation runs), and a parallel runner;
-//! - [`stats`]: quantiles, bootstrap errors, the ridge surrogate and its Sobol indices;
+//! - [`stats`]: quantiles, bootstrap errors, first-order Sobol indices from given data;
 //! - [`vv`]: the ASME V&V 20 comparison per Table 5 cell;
 //! - [`gap`]: the likelihood of the paper's cells under each candidate, the choice on some cells
 //!   and the shrinkage on the withheld ones;

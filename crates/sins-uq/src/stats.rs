@@ -1,9 +1,8 @@
 //! Statistics of the Monte Carlo: quantiles with their bootstrap errors, and global sensitivity
-//! through a ridge-regression surrogate fitted on the full runs (validated by leave-one-out) whose
-//! Sobol indices are exact for an additive model, with bootstrap intervals.
+//! as first-order Sobol indices estimated from the full runs themselves (given data), with
+//! bootstrap intervals.
 
 use crate::draw::Stream;
-use nalgebra::{DMatrix, DVector};
 
 /// Quantile `p` in [0, 1] of `values` (linear interpolation between order statistics, type 7).
 /// NaN for no values.
@@ -44,108 +43,57 @@ pub fn bootstrap_quantile_se(values: &[f64], ps: &[f64], resamples: usize, seed:
     draws.iter().map(|d| mean_sd(d).1).collect()
 }
 
-/// A ridge-regression surrogate `y ≈ b0 + Σ b_i x_i` on standardised inputs.
-#[derive(Clone, Debug)]
-pub struct Surrogate {
-    /// Coefficients on the standardised inputs.
-    pub beta: Vec<f64>,
-    /// Ridge penalty chosen by leave-one-out.
-    pub lambda: f64,
-    /// Leave-one-out R² (prediction of each full run from a fit without it).
-    pub r2_loo: f64,
-    /// In-sample R².
-    pub r2: f64,
-}
-
-/// Standardises the columns of `x` (rows = samples); constant columns become zero.
-pub fn standardise(x: &[Vec<f64>]) -> Vec<Vec<f64>> {
-    let p = x.first().map_or(0, Vec::len);
-    let cols: Vec<(f64, f64)> = (0..p)
-        .map(|j| mean_sd(&x.iter().map(|r| r[j]).collect::<Vec<_>>()))
-        .collect();
-    x.iter()
-        .map(|r| {
-            r.iter()
-                .zip(&cols)
-                .map(|(v, (m, s))| if *s > 0.0 { (v - m) / s } else { 0.0 })
-                .collect()
-        })
-        .collect()
-}
-
-/// Ridge fit of `y` on standardised `z` with penalty `lambda`; returns (intercept, beta,
-/// leave-one-out residuals, in-sample residuals).
-fn ridge(z: &[Vec<f64>], y: &[f64], lambda: f64) -> Option<(f64, Vec<f64>, Vec<f64>, Vec<f64>)> {
-    let (n, p) = (y.len(), z.first().map_or(0, Vec::len));
-    let x = DMatrix::from_fn(n, p + 1, |i, j| if j == 0 { 1.0 } else { z[i][j - 1] });
-    let yv = DVector::from_column_slice(y);
-    let mut a = x.transpose() * &x;
-    for j in 1..=p {
-        a[(j, j)] += lambda;
+/// First-order Sobol index `Var(E[y | x]) / Var(y)` of one input from given data (no sampling
+/// design): the correlation ratio of `y` on `x` binned into `bins` equal-count bins of `x` (a
+/// choice: one bin per level), corrected for the bias of binned means (the adjusted
+/// η² = 1 - (1 - η²)(N - 1)/(N - M), clamped to [0, 1]). Model-free, so a bimodal response is
+/// no harder than a smooth one; it needs no surrogate.
+pub fn first_order_given_data(x: &[f64], y: &[f64], bins: usize, is_choice: bool) -> f64 {
+    let n = y.len();
+    if n < 3 {
+        return f64::NAN;
     }
-    let inv = a.try_inverse()?;
-    let coef = &inv * x.transpose() * &yv;
-    let fitted = &x * &coef;
-    let hat_diag: Vec<f64> = (0..n)
-        .map(|i| (x.row(i) * &inv * x.row(i).transpose())[(0, 0)])
-        .collect();
-    let resid: Vec<f64> = (0..n).map(|i| y[i] - fitted[i]).collect();
-    let loo = resid
-        .iter()
-        .zip(&hat_diag)
-        .map(|(r, h)| r / (1.0 - h).max(1e-9))
-        .collect();
-    Some((coef[0], coef.iter().skip(1).copied().collect(), loo, resid))
-}
-
-/// Fits the surrogate, choosing the ridge penalty on a grid by leave-one-out error.
-pub fn fit_surrogate(z: &[Vec<f64>], y: &[f64]) -> Option<Surrogate> {
-    let (_, sd) = mean_sd(y);
-    let ss = sd * sd * (y.len() as f64 - 1.0);
-    let mut best: Option<Surrogate> = None;
-    for k in 0..12 {
-        let lambda = if k == 0 { 0.0 } else { 0.05 * 2f64.powi(k) };
-        let Some((_, beta, loo, res)) = ridge(z, y, lambda) else {
-            continue;
-        };
-        let press: f64 = loo.iter().map(|r| r * r).sum();
-        let rss: f64 = res.iter().map(|r| r * r).sum();
-        let s = Surrogate {
-            beta,
-            lambda,
-            r2_loo: if ss > 0.0 { 1.0 - press / ss } else { 0.0 },
-            r2: if ss > 0.0 { 1.0 - rss / ss } else { 0.0 },
-        };
-        if best.as_ref().is_none_or(|b| s.r2_loo > b.r2_loo) {
-            best = Some(s);
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| x[a].total_cmp(&x[b]).then(a.cmp(&b)));
+    let groups: Vec<Vec<usize>> = if is_choice {
+        let mut g: Vec<Vec<usize>> = Vec::new();
+        for &i in &order {
+            match g.last_mut() {
+                Some(last) if x[last[0]] == x[i] => last.push(i),
+                _ => g.push(vec![i]),
+            }
         }
+        g
+    } else {
+        let m = bins.clamp(2, n);
+        (0..m)
+            .map(|b| order[b * n / m..(b + 1) * n / m].to_vec())
+            .filter(|g| !g.is_empty())
+            .collect()
+    };
+    let m = groups.len();
+    if m < 2 || n <= m {
+        return 0.0;
     }
-    best
-}
-
-/// First-order Sobol index of each group of standardised inputs under an additive linear
-/// surrogate: `Var(Σ_{i∈g} β_i z_i) / Var(y)` with the inputs' sample covariance, so that
-/// one-hot columns of one choice are taken together. For an additive model the total index
-/// equals the first-order one; what the surrogate does not explain (1 - R²) is interaction,
-/// per-element draws and sensor-noise seeds.
-pub fn group_indices(z: &[Vec<f64>], y: &[f64], beta: &[f64], groups: &[Vec<usize>]) -> Vec<f64> {
-    let (_, sd) = mean_sd(y);
-    let var_y = sd * sd;
-    groups
+    let mean = y.iter().sum::<f64>() / n as f64;
+    let ss_total: f64 = y.iter().map(|v| (v - mean).powi(2)).sum();
+    if ss_total <= 0.0 {
+        return 0.0;
+    }
+    let ss_between: f64 = groups
         .iter()
         .map(|g| {
-            let part: Vec<f64> = z
-                .iter()
-                .map(|r| g.iter().map(|&i| beta[i] * r[i]).sum())
-                .collect();
-            let (_, s) = mean_sd(&part);
-            if var_y > 0.0 {
-                (s * s / var_y).min(1.0)
-            } else {
-                0.0
-            }
+            let gm = g.iter().map(|&i| y[i]).sum::<f64>() / g.len() as f64;
+            g.len() as f64 * (gm - mean).powi(2)
         })
-        .collect()
+        .sum();
+    let eta2 = ss_between / ss_total;
+    (1.0 - (1.0 - eta2) * (n as f64 - 1.0) / (n - m) as f64).clamp(0.0, 1.0)
+}
+
+/// Bins for [`first_order_given_data`] with `n` samples: about sqrt(n), at least 2.
+pub fn default_bins(n: usize) -> usize {
+    ((n as f64).sqrt().round() as usize).max(2)
 }
 
 /// A Sobol index with its bootstrap interval.
@@ -159,41 +107,39 @@ pub struct IndexInterval {
     pub high: f64,
 }
 
-/// Group indices with bootstrap intervals (the surrogate refitted, penalty fixed, on each
-/// resample of the full runs).
-pub fn group_indices_bootstrap(
-    z: &[Vec<f64>],
+/// [`first_order_given_data`] with a bias-corrected 90 % bootstrap percentile interval
+/// (resamples of the (x, y) pairs, deterministic from `seed`).
+pub fn first_order_bootstrap(
+    x: &[f64],
     y: &[f64],
-    fit: &Surrogate,
-    groups: &[Vec<usize>],
+    is_choice: bool,
     resamples: usize,
     seed: u64,
-) -> Vec<IndexInterval> {
-    let point = group_indices(z, y, &fit.beta, groups);
+) -> IndexInterval {
     let n = y.len();
+    let bins = default_bins(n);
+    let value = first_order_given_data(x, y, bins, is_choice);
     let mut s = Stream::new(seed, 1);
-    let mut draws: Vec<Vec<f64>> = vec![Vec::new(); groups.len()];
+    let mut d = Vec::with_capacity(resamples);
+    let (mut xb, mut yb) = (vec![0.0; n], vec![0.0; n]);
     for _ in 0..resamples {
-        let idx: Vec<usize> = (0..n)
-            .map(|_| ((s.uniform() * n as f64) as usize).min(n - 1))
-            .collect();
-        let zb: Vec<Vec<f64>> = idx.iter().map(|&i| z[i].clone()).collect();
-        let yb: Vec<f64> = idx.iter().map(|&i| y[i]).collect();
-        if let Some((_, beta, _, _)) = ridge(&zb, &yb, fit.lambda) {
-            for (d, v) in draws.iter_mut().zip(group_indices(&zb, &yb, &beta, groups)) {
-                d.push(v);
-            }
+        for k in 0..n {
+            let i = ((s.uniform() * n as f64) as usize).min(n - 1);
+            xb[k] = x[i];
+            yb[k] = y[i];
         }
+        d.push(first_order_given_data(&xb, &yb, bins, is_choice));
     }
-    point
-        .into_iter()
-        .zip(draws)
-        .map(|(value, d)| IndexInterval {
-            value,
-            low: quantile(&d, 0.05),
-            high: quantile(&d, 0.95),
-        })
-        .collect()
+    // Resampling with replacement duplicates points and so inflates the between-bin variance:
+    // shift the percentile interval by the bootstrap's own bias.
+    let bias = d.iter().sum::<f64>() / d.len().max(1) as f64 - value;
+    let low = (quantile(&d, 0.05) - bias).clamp(0.0, 1.0);
+    let high = (quantile(&d, 0.95) - bias).clamp(0.0, 1.0);
+    IndexInterval {
+        value,
+        low: low.min(value),
+        high: high.max(value),
+    }
 }
 
 #[cfg(test)]
@@ -220,30 +166,40 @@ mod tests {
     }
 
     #[test]
-    fn sobol_of_additive_model_matches_analytic_shares() {
-        // y = 3 x1 + 1 x2 + 0 x3 + small noise, x ~ U(0,1): shares 9/10.x, 1/10.x, 0.
+    fn given_data_first_order_matches_analytic_shares() {
+        // y = 3 x1 + x2 + 0 x3 + 0.05 e, x ~ U(0, 1): S1 = 0.75/V, S2 = 0.0833/V, S3 = 0,
+        // V = 10/12 + 0.0025.
         let mut s = Stream::new(3, 0);
-        let x: Vec<Vec<f64>> = (0..300)
-            .map(|_| vec![s.uniform(), s.uniform(), s.uniform()])
+        let n = 2000;
+        let x: Vec<[f64; 3]> = (0..n)
+            .map(|_| [s.uniform(), s.uniform(), s.uniform()])
             .collect();
         let y: Vec<f64> = x
             .iter()
             .map(|r| 3.0 * r[0] + r[1] + 0.05 * s.normal())
             .collect();
-        let z = standardise(&x);
-        let fit = fit_surrogate(&z, &y).expect("fit");
-        assert!(fit.r2_loo > 0.98, "LOO R² {}", fit.r2_loo);
-        let groups = vec![vec![0], vec![1], vec![2]];
-        let idx = group_indices_bootstrap(&z, &y, &fit, &groups, 100, 5);
-        let var_noise = 0.05f64.powi(2);
-        let total = 10.0 / 12.0 + var_noise;
-        assert!((idx[0].value - 0.75 / total).abs() < 0.06, "{:?}", idx[0]);
+        let v = 10.0 / 12.0 + 0.0025;
+        let col = |j: usize| x.iter().map(|r| r[j]).collect::<Vec<_>>();
+        let idx: Vec<IndexInterval> = (0..3)
+            .map(|j| first_order_bootstrap(&col(j), &y, false, 200, 5))
+            .collect();
+        assert!((idx[0].value - 0.75 / v).abs() < 0.03, "{:?}", idx[0]);
         assert!(
-            (idx[1].value - (1.0 / 12.0) / total).abs() < 0.03,
+            (idx[1].value - (1.0 / 12.0) / v).abs() < 0.02,
             "{:?}",
             idx[1]
         );
-        assert!(idx[2].value < 0.01 && idx[2].low <= idx[2].value && idx[2].value <= idx[2].high);
-        assert!(idx[0].low < idx[0].value && idx[0].value < idx[0].high);
+        assert!(idx[2].value < 0.01, "{:?}", idx[2]);
+        for i in &idx {
+            assert!(
+                i.low <= i.value && i.value <= i.high && i.high - i.low < 0.1,
+                "{i:?}"
+            );
+        }
+        // A two-level choice that moves y by 4 sd: nearly all the variance.
+        let c: Vec<f64> = (0..n).map(|i| (i % 2) as f64).collect();
+        let yc: Vec<f64> = c.iter().map(|c| 4.0 * c + s.normal()).collect();
+        let sc = first_order_given_data(&c, &yc, 2, true);
+        assert!((sc - 4.0 / 5.0).abs() < 0.03, "{sc}");
     }
 }

@@ -1,6 +1,6 @@
 //! The study's results as one serialisable summary: per Table 5 cell the point replica, the
 //! Monte Carlo median and 5-95 % interval with their bootstrap errors, the V&V 20 comparison,
-//! the grouped Sobol indices; Table 2 against the replica's spread; the gap diagnosis.
+//! the first-order Sobol indices; Table 2 against the replica's spread; the gap diagnosis.
 //! Everything is a function of the sorted sample outcomes, so the summary is identical whatever
 //! the thread count or sharding.
 
@@ -138,28 +138,27 @@ pub struct CellSummary {
     pub bootstrap_se: [f64; 3],
     /// The V&V 20 comparison (when the paper has the cell).
     pub validation: Option<Validation>,
-    /// Grouped Sobol indices of the surrogate.
+    /// First-order Sobol indices of the assumptions (given-data estimator).
     pub sensitivity: Option<CellSensitivity>,
 }
 
 /// Global sensitivity of one cell.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CellSensitivity {
-    /// Leave-one-out R² of the surrogate against the full runs (log space for errors).
-    pub r2_loo: f64,
-    /// In-sample R².
-    pub r2: f64,
-    /// Ridge penalty.
-    pub lambda: f64,
-    /// Per group: first-order index (= total for the additive surrogate) with its 90 %
-    /// bootstrap interval, largest first.
-    pub groups: Vec<GroupIndex>,
+    /// Sum of the first-order indices: 1 minus it is the share of interactions, per-element
+    /// draws (vibration phases) and sensor-noise seeds.
+    pub sum_first_order: f64,
+    /// Per assumption that varies: its first-order index with a 90 % bootstrap interval,
+    /// largest first.
+    pub inputs: Vec<InputIndex>,
 }
 
-/// One group's Sobol index.
+/// One assumption's first-order Sobol index.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct GroupIndex {
-    /// Group name.
+pub struct InputIndex {
+    /// Assumption name.
+    pub name: String,
+    /// Its group.
     pub group: String,
     /// First-order index.
     pub first_order: f64,
@@ -269,7 +268,7 @@ pub fn summarize(
     }
     let runs = main[0].max_horizontal_m.len();
     let ids = all_cells(runs);
-    let inputs = surrogate_inputs(set, &main);
+    let inputs = varying_inputs(set, &main);
     let cells = ids
         .iter()
         .enumerate()
@@ -330,42 +329,29 @@ fn table2_sigma(samples: &[&SampleOutcome], g: &Table2Group) -> Vec<f64> {
         .collect()
 }
 
-/// Surrogate inputs: standardised numeric assumptions that vary, one-hot columns (minus the
-/// first label) for choices; with the group of each column.
+/// The assumptions that vary from sample to sample (per-element ones excluded), with their
+/// drawn values over the main Monte Carlo.
 struct Inputs {
-    z: Vec<Vec<f64>>,
-    groups: Vec<(String, Vec<usize>)>,
+    columns: Vec<(String, String, bool, Vec<f64>)>,
 }
 
-fn surrogate_inputs(set: &AssumptionSet, main: &[&SampleOutcome]) -> Inputs {
-    let mut cols: Vec<Vec<f64>> = Vec::new();
-    let mut groups: Vec<(String, Vec<usize>)> = Vec::new();
-    for (i, a) in set.assumptions.iter().enumerate() {
-        if a.knob.is_per_element() || !a.distribution.varies() {
-            continue;
-        }
-        let raw: Vec<f64> = main.iter().map(|o| o.values[i].unwrap_or(0.0)).collect();
-        let mut new_cols = match a.distribution.labels() {
-            Some(labels) => (1..labels.len())
-                .map(|l| raw.iter().map(|v| f64::from(*v as usize == l)).collect())
-                .collect(),
-            None => vec![raw],
-        };
-        let start = cols.len();
-        cols.append(&mut new_cols);
-        let idx: Vec<usize> = (start..cols.len()).collect();
-        match groups.iter_mut().find(|(g, _)| *g == a.group) {
-            Some((_, v)) => v.extend(idx),
-            None => groups.push((a.group.clone(), idx)),
-        }
-    }
-    let rows: Vec<Vec<f64>> = (0..main.len())
-        .map(|r| cols.iter().map(|c| c[r]).collect())
+fn varying_inputs(set: &AssumptionSet, main: &[&SampleOutcome]) -> Inputs {
+    let columns = set
+        .assumptions
+        .iter()
+        .enumerate()
+        .filter(|(_, a)| !a.knob.is_per_element() && a.distribution.varies())
+        .map(|(i, a)| {
+            let v = main.iter().map(|o| o.values[i].unwrap_or(0.0)).collect();
+            (
+                a.name.clone(),
+                a.group.clone(),
+                a.distribution.labels().is_some(),
+                v,
+            )
+        })
         .collect();
-    Inputs {
-        z: stats::standardise(&rows),
-        groups,
-    }
+    Inputs { columns }
 }
 
 fn cell_summary(
@@ -394,38 +380,38 @@ fn cell_summary(
         )
     });
     let y: Vec<f64> = vals.iter().map(|v| crate::gap::transform(id, *v)).collect();
-    let sensitivity = (!inputs.groups.is_empty())
-        .then(|| stats::fit_surrogate(&inputs.z, &y))
-        .flatten()
-        .map(|fit| {
-            let g: Vec<Vec<usize>> = inputs.groups.iter().map(|(_, v)| v.clone()).collect();
-            let idx: Vec<IndexInterval> = stats::group_indices_bootstrap(
-                &inputs.z,
-                &y,
-                &fit,
-                &g,
-                BOOTSTRAP_RESAMPLES / 2,
-                seed,
-            );
-            let mut groups: Vec<GroupIndex> = inputs
-                .groups
-                .iter()
-                .zip(idx)
-                .map(|((name, _), i)| GroupIndex {
-                    group: name.clone(),
+    let sensitivity = (!inputs.columns.is_empty()).then(|| {
+        let mut list: Vec<InputIndex> = inputs
+            .columns
+            .iter()
+            .enumerate()
+            .map(|(j, (name, group, choice, x))| {
+                let i: IndexInterval = stats::first_order_bootstrap(
+                    x,
+                    &y,
+                    *choice,
+                    BOOTSTRAP_RESAMPLES / 2,
+                    seed ^ ((j as u64) << 20),
+                );
+                InputIndex {
+                    name: name.clone(),
+                    group: group.clone(),
                     first_order: i.value,
                     low: i.low,
                     high: i.high,
-                })
-                .collect();
-            groups.sort_by(|a, b| b.first_order.total_cmp(&a.first_order));
-            CellSensitivity {
-                r2_loo: fit.r2_loo,
-                r2: fit.r2,
-                lambda: fit.lambda,
-                groups,
-            }
+                }
+            })
+            .collect();
+        list.sort_by(|a, b| {
+            b.first_order
+                .total_cmp(&a.first_order)
+                .then(a.name.cmp(&b.name))
         });
+        CellSensitivity {
+            sum_first_order: list.iter().map(|g| g.first_order).sum(),
+            inputs: list,
+        }
+    });
     CellSummary {
         cell: id.label(),
         point: point.unwrap_or(f64::NAN),

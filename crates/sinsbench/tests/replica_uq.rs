@@ -30,7 +30,10 @@ fn small_study(dir: &Path) -> PathBuf {
         .replace("\"../paper_truth_calibration.toml\"", "\"cal.toml\"")
         .replace("\"../paper_navigation.toml\"", "\"nav.toml\"")
         .replace("\"../reference/", &format!("\"{}/reference/", e.display()))
-        .replace("gate = \"gate_paper.toml\"", &format!("gate = \"{}/harness/gate_paper.toml\"", e.display()));
+        .replace(
+            "gate = \"gate_paper.toml\"",
+            &format!("gate = \"{}/harness/gate_paper.toml\"", e.display()),
+        );
     std::fs::write(dir.join("report.toml"), report).unwrap();
     let study = format!(
         r#"schema = 1
@@ -97,33 +100,87 @@ fn sharded_and_single_process_summaries_are_identical() {
     let tmp = tempfile::tempdir().unwrap();
     let a = small_study(tmp.path());
     let (one, two) = (tmp.path().join("one"), tmp.path().join("two"));
-    let o = run(&["replica-uq", "--assumptions", &p(&a), "--out", &p(&one), "--threads", "2"]);
+    let o = run(&[
+        "replica-uq",
+        "--assumptions",
+        &p(&a),
+        "--out",
+        &p(&one),
+        "--threads",
+        "2",
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let table = String::from_utf8_lossy(&o.stdout);
-    assert!(table.contains("| exp1 without |") && table.contains("chosen"), "{table}");
+    assert!(
+        table.contains("| exp1 without |") && table.contains("chosen"),
+        "{table}"
+    );
     for shard in ["1/2", "0/2"] {
-        let o = run(&["replica-uq", "--assumptions", &p(&a), "--out", &p(&two), "--threads", "1", "--shard", shard]);
+        let o = run(&[
+            "replica-uq",
+            "--assumptions",
+            &p(&a),
+            "--out",
+            &p(&two),
+            "--threads",
+            "1",
+            "--shard",
+            shard,
+        ]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        assert_eq!(two.join("summary.json").exists(), shard == "0/2", "summary only once every sample is in");
+        assert_eq!(
+            two.join("summary.json").exists(),
+            shard == "0/2",
+            "summary only once every sample is in"
+        );
     }
-    for f in ["summary.json", "report.md", "intervals.png", "sensitivity.png"] {
-        assert_eq!(std::fs::read(one.join(f)).unwrap(), std::fs::read(two.join(f)).unwrap(), "{f} differs");
+    for f in [
+        "summary.json",
+        "report.md",
+        "intervals.png",
+        "sensitivity.png",
+    ] {
+        assert_eq!(
+            std::fs::read(one.join(f)).unwrap(),
+            std::fs::read(two.join(f)).unwrap(),
+            "{f} differs"
+        );
     }
     // The summary is physics, not a shape: the point replica's exp1 30-state cell is a positive
     // error in nmi, inside a plausible band for a 55 min run, and the 5-95 % interval holds the
     // median.
-    let s: serde_json::Value = serde_json::from_slice(&std::fs::read(one.join("summary.json")).unwrap()).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(one.join("summary.json")).unwrap()).unwrap();
     let c = &s["cells"][0];
-    let (lo, med, hi) = (c["p05"].as_f64().unwrap(), c["median"].as_f64().unwrap(), c["p95"].as_f64().unwrap());
+    let (lo, med, hi) = (
+        c["p05"].as_f64().unwrap(),
+        c["median"].as_f64().unwrap(),
+        c["p95"].as_f64().unwrap(),
+    );
     assert!(lo <= med && med <= hi && lo > 0.0 && hi < 50.0, "{c}");
     // Resume: a finished study reruns nothing and rewrites the same bytes.
     let before = std::fs::read(one.join("summary.json")).unwrap();
     let t = std::time::Instant::now();
-    let o = run(&["replica-uq", "--assumptions", &p(&a), "--out", &p(&one), "--summarize-only"]);
+    let o = run(&[
+        "replica-uq",
+        "--assumptions",
+        &p(&a),
+        "--out",
+        &p(&one),
+        "--summarize-only",
+    ]);
     assert!(o.status.success() && t.elapsed().as_secs_f64() < 30.0);
     assert_eq!(before, std::fs::read(one.join("summary.json")).unwrap());
     // Another seed in the same directory is refused (its samples would mix).
-    let o = run(&["replica-uq", "--assumptions", &p(&a), "--out", &p(&one), "--seed", "6"]);
+    let o = run(&[
+        "replica-uq",
+        "--assumptions",
+        &p(&a),
+        "--out",
+        &p(&one),
+        "--seed",
+        "6",
+    ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("manifest.json differs"));
 }
@@ -147,22 +204,59 @@ fn bad_inputs_are_refused_and_nothing_is_touched() {
     assert_eq!(o.status.code(), Some(2));
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
     // Shard out of range, zero threads: clap errors naming the option.
-    for (flag, value) in [("--shard", "2/2"), ("--shard", "x"), ("--threads", "0"), ("--samples", "1")] {
-        let o = run(&["replica-uq", "--assumptions", &p(&a), "--out", &p(&tmp.path().join("z")), flag, value]);
+    for (flag, value) in [
+        ("--shard", "2/2"),
+        ("--shard", "x"),
+        ("--threads", "0"),
+        ("--samples", "1"),
+    ] {
+        let o = run(&[
+            "replica-uq",
+            "--assumptions",
+            &p(&a),
+            "--out",
+            &p(&tmp.path().join("z")),
+            flag,
+            value,
+        ]);
         assert_eq!(o.status.code(), Some(2), "{flag} {value}");
-        assert!(String::from_utf8_lossy(&o.stderr).contains(flag), "{flag}: {}", String::from_utf8_lossy(&o.stderr));
+        assert!(
+            String::from_utf8_lossy(&o.stderr).contains(flag),
+            "{flag}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
     }
     // Summarising a study with missing samples lists them and writes no summary.
-    let o = run(&["replica-uq", "--assumptions", &p(&a), "--out", &p(&tmp.path().join("empty")), "--summarize-only"]);
+    let o = run(&[
+        "replica-uq",
+        "--assumptions",
+        &p(&a),
+        "--out",
+        &p(&tmp.path().join("empty")),
+        "--summarize-only",
+    ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("samples are missing"));
     assert!(!tmp.path().join("empty/summary.json").exists());
     // A broken sample file is named.
     let one = tmp.path().join("one");
-    std::fs::create_dir_all(one.join("samples")).unwrap();
-    let _ = run(&["replica-uq", "--assumptions", &p(&a), "--out", &p(&one), "--summarize-only"]);
+    let _ = run(&[
+        "replica-uq",
+        "--assumptions",
+        &p(&a),
+        "--out",
+        &p(&one),
+        "--summarize-only",
+    ]);
     std::fs::write(one.join("samples/point-00000.json"), "{ not json").unwrap();
-    let o = run(&["replica-uq", "--assumptions", &p(&a), "--out", &p(&one), "--summarize-only"]);
+    let o = run(&[
+        "replica-uq",
+        "--assumptions",
+        &p(&a),
+        "--out",
+        &p(&one),
+        "--summarize-only",
+    ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("point-00000.json"));
 }
