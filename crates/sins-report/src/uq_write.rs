@@ -90,7 +90,7 @@ fn segment(label: &str, x: f64, lo: f64, hi: f64, color: Rgb, width: f32) -> Lin
 }
 
 fn tick(label: &str, x: f64, y: f64, color: Rgb) -> Line {
-    Line::new(label, vec![x - 0.25, x + 0.25], vec![y, y])
+    Line::new(label, vec![x - 0.15, x + 0.15], vec![y, y])
         .color(color)
         .width_px(3.0)
 }
@@ -107,8 +107,12 @@ pub fn intervals_figure(s: &UqSummary) -> Figure {
         .y_label("%")
         .x_label("experiment");
     let (mut xe, mut xi) = (0.0, 0.0);
-    for (k, c) in s.cells.iter().enumerate() {
-        let first = k < 3;
+    for c in &s.cells {
+        let first = if c.cell.ends_with("improvement") {
+            xi == 0.0
+        } else {
+            xe == 0.0
+        };
         let lbl = |t: &str| if first { t.to_string() } else { String::new() };
         let paper = c.validation.as_ref().map(|v| v.d);
         if c.cell.ends_with("improvement") {

@@ -209,12 +209,12 @@ fn uq_step(dir: &Path) -> Result<()> {
     ])?;
     let per = m.wall_s / jobs as f64;
     let default_jobs = 1 + default_main + 6 * candidates;
-    println!(
+    say!(
         "replica-uq short study ({jobs} samples on 2 threads: each a 4.2 h calibration run, 30- and 42-state filters, 3 x 15 h simulated + replayed twice): {:.1} s wall, {per:.1} s per sample, peak RSS {:.0} MB; the default study ({default_jobs} samples) projects to {:.1} min",
         m.wall_s,
         m.peak_rss_mb,
         per * default_jobs as f64 / 60.0
-    );
+    )?;
     Ok(())
 }
 

@@ -1,6 +1,7 @@
 //! `sinsbench replica-uq`: the replica of Table 5 as a validated prediction (Monte Carlo over
 //! the declared assumptions, sensitivity, V&V 20 against the paper, the gap diagnosis).
 
+use crate::out::say;
 use crate::{defaults, progress};
 use anyhow::{Context, Result, bail};
 use sha2::{Digest, Sha256};
@@ -98,28 +99,28 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                 head.join(", ")
             );
         }
-        println!(
+        say!(
             "shard done; {} of {} samples still missing (other shards); then run with --summarize-only",
             absent.len(),
             jobs.len()
-        );
+        )?;
         return Ok(());
     }
     let summary = sins_uq::summary::summarize(&study.set, &outcomes, &study.paper)?;
     write_uq_outputs(&args.out, &summary)?;
-    print!("{}", sins_report::uq_table_for_report(&summary));
+    say!("{}", sins_report::uq_table_for_report(&summary).trim_end())?;
     if let Some(g) = &summary.gap {
-        println!(
+        say!(
             "gap diagnosis: chosen {} on {}; median shrinkage on withheld cells {:.0} %",
             g.chosen,
             g.choose_on.join(", "),
             g.median_shrinkage_percent
-        );
+        )?;
     }
-    println!(
+    say!(
         "wrote {} (summary.json, report.md, intervals.png, sensitivity.png, samples/)",
         args.out.display()
-    );
+    )?;
     Ok(())
 }
 
