@@ -170,51 +170,43 @@ fn distribution(
     d: &DistFile,
     si: f64,
 ) -> Result<Distribution, ReportError> {
-    let given = [
-        d.fixed.is_some(),
-        d.uniform.is_some(),
-        d.log_uniform.is_some(),
-        d.normal.is_some(),
-        d.choice.is_some(),
-    ];
-    if given.iter().filter(|g| **g).count() != 1 {
-        return Err(invalid(
+    let mut given: Vec<Distribution> = Vec::new();
+    if let Some(v) = d.fixed {
+        given.push(Distribution::Fixed(v * si));
+    }
+    if let Some([lo, hi]) = d.uniform {
+        given.push(Distribution::Uniform {
+            low: lo * si,
+            high: hi * si,
+        });
+    }
+    if let Some([lo, hi]) = d.log_uniform {
+        given.push(Distribution::LogUniform {
+            low: lo * si,
+            high: hi * si,
+        });
+    }
+    if let Some(n) = &d.normal {
+        given.push(Distribution::Normal {
+            mean: n.mean * si,
+            sd: n.sd * si,
+        });
+    }
+    if let Some(c) = &d.choice {
+        given.push(Distribution::Choice {
+            labels: c.labels.clone(),
+            weights: c.weights.clone(),
+        });
+    }
+    let [dist] = <[Distribution; 1]>::try_from(given).map_err(|_| {
+        invalid(
             path,
             key,
             "give exactly one of fixed, uniform, log_uniform, normal, choice",
-        ));
-    }
-    let dist = if let Some(v) = d.fixed {
-        Distribution::Fixed(v * si)
-    } else if let Some([lo, hi]) = d.uniform {
-        Distribution::Uniform {
-            low: lo * si,
-            high: hi * si,
-        }
-    } else if let Some([lo, hi]) = d.log_uniform {
-        Distribution::LogUniform {
-            low: lo * si,
-            high: hi * si,
-        }
-    } else if let Some(n) = &d.normal {
-        Distribution::Normal {
-            mean: n.mean * si,
-            sd: n.sd * si,
-        }
-    } else if let Some(c) = &d.choice {
-        Distribution::Choice {
-            labels: c.labels.clone(),
-            weights: c.weights.clone(),
-        }
-    } else {
-        unreachable_dist()
-    };
+        )
+    })?;
     dist.validate(key).map_err(|e| invalid(path, key, e))?;
     Ok(dist)
-}
-
-fn unreachable_dist() -> Distribution {
-    Distribution::Fixed(0.0)
 }
 
 /// Reads an assumptions file, the replica configuration it names and the paper's tables (all

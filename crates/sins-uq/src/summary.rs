@@ -295,7 +295,7 @@ pub fn summarize(
             replica: table2_sigma(&main, g),
         })
         .collect();
-    let gap = gap_diagnosis(set, outcomes, paper, &ids, &pick);
+    let gap = gap_diagnosis(set, paper, &ids, &pick);
     Ok(UqSummary {
         schema: UQ_SCHEMA,
         seed: set.seed,
@@ -426,7 +426,6 @@ fn cell_summary(
 
 fn gap_diagnosis<'a>(
     set: &AssumptionSet,
-    _outcomes: &[SampleOutcome],
     paper: &PaperData,
     ids: &[CellId],
     pick: &dyn Fn(&str) -> Vec<&'a SampleOutcome>,
