@@ -26,6 +26,7 @@ mod effects;
 mod error;
 mod exact;
 mod experiment;
+mod files;
 mod motion;
 mod params;
 mod params_write;
@@ -37,6 +38,7 @@ pub use coefficients::{Coefficient, coefficient_table};
 pub use effects::{effects_to_toml, parse_effects_toml};
 pub use error::ConfigError;
 pub use experiment::{EXPERIMENT_SCHEMA, Experiment, load_experiment};
+pub use files::write_file_atomically;
 pub use motion::motion_duration_s;
 pub use params::{
     ParamFormat, ParamSet, load_params, model_name, parse_params_json, parse_params_toml,

@@ -107,17 +107,10 @@ pub fn write_params(path: impl AsRef<Path>, set: &ParamSet) -> Result<(), Config
         ParamFormat::Json => params_to_json(set),
     };
     // Write aside and rename, so a failure never leaves a half-written parameter file.
-    let file_name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{file_name}.tmp-{}", std::process::id()));
-    let result = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.map_err(|source| ConfigError::Write {
-        path: path.to_owned(),
-        source,
+    crate::files::write_file_atomically(path, text.as_bytes()).map_err(|source| {
+        ConfigError::Write {
+            path: path.to_owned(),
+            source,
+        }
     })
 }

@@ -10,20 +10,10 @@ use sins_uq::summary::UqSummary;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-/// Writes `bytes` to `path` through a temporary file in the same directory and a rename.
+/// Writes `bytes` to `path` aside and renames it into place
+/// ([`sins_config::write_file_atomically`]).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ReportError> {
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
-    let result = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(ReportError::io(path, e));
-    }
-    Ok(())
+    sins_config::write_file_atomically(path, bytes).map_err(|e| ReportError::io(path, e))
 }
 
 /// The file of one sample.

@@ -149,11 +149,15 @@ fn calibrate(
     }
 }
 
-/// Samples of work in a job (for progress bars): the calibration run(s) and the navigation
-/// runs' sample counts.
-pub fn job_work(base: &ReplicaBase) -> u64 {
+/// Samples of data a job simulates (for progress bars): its calibration run(s) and its
+/// navigation runs.
+pub fn job_work(base: &ReplicaBase, set: &AssumptionSet, job: Job) -> u64 {
+    let sc = match job {
+        Job::Point => point(base),
+        Job::Draw(slot, i) => build(base, set, &draw(set, slot, i)),
+    };
     let n = |sc| sins_harness::pipeline::scenario_samples(sc).unwrap_or(0);
-    n(&base.calibration) + base.navigation.iter().map(n).sum::<u64>()
+    n(&sc.cal42) + sc.cal30.as_ref().map_or(0, n) + sc.navigation.iter().map(n).sum::<u64>()
 }
 
 /// Runs `jobs` on `threads` workers (each takes the next job not yet started); `done` is called

@@ -198,12 +198,11 @@ fn prepare_out(out: &Path, manifest: &str) -> Result<()> {
 }
 
 fn run_missing(study: &UqStudy, jobs: &[Job], args: &Args, quiet: bool) -> Result<()> {
-    let per_job = job_work(&study.base);
-    let bar = progress::bar(
-        per_job * jobs.len() as u64,
-        &format!("replica-uq {} samples", jobs.len()),
-        quiet,
-    );
+    let work: u64 = jobs
+        .iter()
+        .map(|j| job_work(&study.base, &study.set, *j))
+        .sum();
+    let bar = progress::bar(work, &format!("replica-uq {} samples", jobs.len()), quiet);
     let write_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
     let results = run_jobs(
         &study.base,

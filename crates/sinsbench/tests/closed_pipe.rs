@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::Stdio;
 
 mod common;
-use common::{csv_without_temperatures, exe, experiments, gate_summary_json};
+use common::{csv_without_temperatures, exe, experiments, gate_summary_json, s};
 
 /// What a run with a closed stdout left behind.
 struct Closed {
@@ -41,10 +41,6 @@ fn assert_quiet_exit(c: &Closed, code: i32, what: &str) {
         c.stderr
     );
     assert_eq!(c.code, Some(code), "{what}: exit code\n{}", c.stderr);
-}
-
-fn s(p: &Path) -> String {
-    p.display().to_string()
 }
 
 /// A summary with one experiment (2.11 / 3.38 nmi) and thresholds it passes or fails.

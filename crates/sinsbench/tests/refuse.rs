@@ -6,19 +6,7 @@ use std::path::Path;
 use std::process::Output;
 
 mod common;
-use common::{csv_without_temperatures, exe, experiments, gate_summary_json};
-
-fn run<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Output {
-    exe()
-        .args(args)
-        .arg("--quiet")
-        .output()
-        .expect("run sinsbench")
-}
-
-fn s(p: &Path) -> String {
-    p.display().to_string()
-}
+use common::{csv_without_temperatures, experiments, gate_summary_json, run, s};
 
 /// Exit code 2 and a message on stderr that contains every one of `needles`.
 fn assert_refused(o: &Output, needles: &[&str]) -> String {

@@ -3,22 +3,9 @@
 
 mod common;
 use common::{
-    csv_without_temperatures, exe, experiments, short_calibration_experiment, simulate_into,
+    csv_without_temperatures, experiments, run, s, short_calibration_experiment, simulate_into,
     verify_rrd,
 };
-use std::path::Path;
-
-fn run(args: &[&str]) -> std::process::Output {
-    exe()
-        .args(args)
-        .arg("--quiet")
-        .output()
-        .expect("run sinsbench")
-}
-
-fn s(p: &Path) -> String {
-    p.display().to_string()
-}
 
 /// The default report (no arguments besides the output directory): three experiments, each
 /// better with temperature compensation, every file present, every .rrd readable by Rerun,

@@ -9,6 +9,20 @@ pub fn exe() -> Command {
     Command::new(env!("CARGO_BIN_EXE_sinsbench"))
 }
 
+/// Run the binary with `args` and `--quiet` (no progress bars), capturing its output.
+pub fn run<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> std::process::Output {
+    exe()
+        .args(args)
+        .arg("--quiet")
+        .output()
+        .expect("run sinsbench")
+}
+
+/// A path as a command-line argument.
+pub fn s(p: &Path) -> String {
+    p.display().to_string()
+}
+
 /// The repository's experiments/ folder.
 pub fn experiments() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
