@@ -43,6 +43,8 @@ struct File {
     description: String,
     replica: String,
     samples: usize,
+    #[serde(default)]
+    pick_freeze_samples: usize,
     seed: u64,
     choose_on: Vec<String>,
     paper_table5: String,
@@ -235,6 +237,7 @@ pub fn load_uq_study(path: &Path) -> Result<UqStudy, ReportError> {
         assumptions,
         candidates: Vec::new(),
         samples: raw.samples,
+        pick_freeze_samples: raw.pick_freeze_samples,
         seed: raw.seed,
         choose_on: Vec::new(),
     };

@@ -1,7 +1,8 @@
 //! The UQ study's directory: one JSON file per sample (`samples/`, written as each sample ends,
 //! so a study can run in shards and resume), then `summary.json`, `report.md`,
 //! `intervals.png` (the Monte Carlo intervals beside the paper's points) and `sensitivity.png`
-//! (grouped Sobol indices). Every file is written aside and renamed into place.
+//! (first-order Sobol indices per assumption, grouped first-order and total indices when the
+//! pick-freeze design ran). Every file is written aside and renamed into place.
 
 use crate::ReportError;
 use sins_plot::{Figure, Line, Panel, Rgb, SERIES_PALETTE};
@@ -170,8 +171,43 @@ pub fn sensitivity_figure(s: &UqSummary) -> Figure {
             p = p.line(segment("", x + 0.2, g.low, g.high, Rgb::BLACK, 2.0));
         }
         fig = fig.panel(p.x_range(0.3, shown as f64 + 0.7));
+        if !sens.groups.is_empty() {
+            fig = fig.panel(group_panel(&c.cell, &sens.groups));
+        }
     }
     fig
+}
+
+/// Total (wide bar) and first-order (narrow bar) index of every group with their intervals.
+fn group_panel(cell: &str, groups: &[sins_uq::sobol::GroupIndex]) -> Panel {
+    let mut p = Panel::new(format!(
+        "{cell}: grouped total (wide) and first-order (narrow) indices, pick-freeze"
+    ))
+    .y_label("index")
+    .y_range(-0.2, 1.2);
+    for (k, g) in groups.iter().enumerate() {
+        let x = k as f64 + 1.0;
+        let color = SERIES_PALETTE[k % SERIES_PALETTE.len()];
+        p = p.line(segment(&g.group, x, 0.0, g.total[0], color, 14.0));
+        p = p.line(segment(
+            "",
+            x + 0.22,
+            g.total[1],
+            g.total[2],
+            Rgb::BLACK,
+            2.0,
+        ));
+        p = p.line(segment("", x - 0.22, 0.0, g.first_order[0], color, 4.0));
+        p = p.line(segment(
+            "",
+            x - 0.3,
+            g.first_order[1],
+            g.first_order[2],
+            Rgb::BLACK,
+            1.0,
+        ));
+    }
+    p.x_range(0.3, groups.len() as f64 + 0.7)
 }
 
 /// A short text of the per-cell interval and verdict for `report.md` (used by `report --uq`).

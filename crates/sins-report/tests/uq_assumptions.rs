@@ -99,6 +99,11 @@ fn bad_entries_are_refused_by_name() {
             "knob = \"truth:TB_qx\"",
             "unknown knob 'truth:TB_qx'",
         ),
+        (
+            "pick_freeze_samples = 0",
+            "pick_freeze_samples = 33",
+            "'pick_freeze_samples': must be 0 or 2..=32",
+        ),
     ] {
         assert!(text.contains(from), "{from}");
         let f = dir.join("a.toml");

@@ -212,7 +212,7 @@ pub struct Assumption {
     pub knob: Knob,
     /// Its distribution in SI (or choice indices).
     pub distribution: Distribution,
-    /// Group for grouped sensitivity indices (e.g. "truth TB", "noise").
+    /// Group for grouped sensitivity indices (e.g. "truth temperature coefficients").
     pub group: String,
     /// The unit the file and reports use.
     pub unit: String,
@@ -259,6 +259,9 @@ pub struct AssumptionSet {
     pub candidates: Vec<Candidate>,
     /// Main Monte Carlo samples (over all assumptions).
     pub samples: usize,
+    /// Rows of the pick-freeze design for grouped first-order and total Sobol indices
+    /// ([`crate::sobol`]; 0: none). Rows reuse the first main samples, so at most `samples`.
+    pub pick_freeze_samples: usize,
     /// Master seed.
     pub seed: u64,
     /// Cells the gap diagnosis chooses on (the rest are withheld).
@@ -310,6 +313,15 @@ impl AssumptionSet {
             return Err(err(
                 "samples",
                 format!("needs at least 4 samples, got {}", self.samples),
+            ));
+        }
+        if self.pick_freeze_samples > self.samples || self.pick_freeze_samples == 1 {
+            return Err(err(
+                "pick_freeze_samples",
+                format!(
+                    "must be 0 or 2..={} (the main samples it reuses), got {}",
+                    self.samples, self.pick_freeze_samples
+                ),
             ));
         }
         if self.candidates.is_empty() {

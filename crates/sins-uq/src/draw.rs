@@ -14,6 +14,9 @@ pub enum Slot {
     Main,
     /// Candidate number `c` (file order) of the gap diagnosis.
     Candidate(usize),
+    /// The pick-freeze design's second matrix B: independent draws of every assumption
+    /// ([`crate::sobol`]).
+    Resample,
 }
 
 impl Slot {
@@ -21,6 +24,7 @@ impl Slot {
         match self {
             Slot::Main => 0,
             Slot::Candidate(c) => (c as u64 + 1) << 32,
+            Slot::Resample => 0xffff_ffff << 32,
         }
     }
 }
@@ -83,7 +87,7 @@ pub fn draw(set: &AssumptionSet, slot: Slot, index: usize) -> Draw {
     let mut s = Stream::new(set.seed, slot.stream_base() + index as u64);
     let candidate = match slot {
         Slot::Candidate(c) => set.candidates.get(c),
-        Slot::Main => None,
+        Slot::Main | Slot::Resample => None,
     };
     let values = set
         .assumptions

@@ -9,6 +9,7 @@
 //! - [`sample`]: one Monte Carlo sample end to end (simulate, calibrate 30 and 42 states,
 //!   simulate and replay the navigation runs), and a parallel runner;
 //! - [`stats`]: quantiles, bootstrap errors, first-order Sobol indices from given data;
+//! - [`sobol`]: grouped first-order and total Sobol indices by the pick-freeze design;
 //! - [`vv`]: the ASME V&V 20 comparison per Table 5 cell;
 //! - [`gap`]: the likelihood of the paper's cells under each candidate, the choice on some cells
 //!   and the shrinkage on the withheld ones;
@@ -24,6 +25,7 @@ pub mod draw;
 mod error;
 pub mod gap;
 pub mod sample;
+pub mod sobol;
 pub mod stats;
 pub mod summary;
 pub mod vv;

@@ -4,7 +4,7 @@
 use crate::UqError;
 use crate::apply::{ReplicaBase, SampleScenarios, build, point};
 use crate::assumptions::AssumptionSet;
-use crate::draw::{Slot, draw};
+use crate::draw::{Draw, Slot, draw};
 use serde::{Deserialize, Serialize};
 use sins_harness::pipeline::{NamedParams, simulate_and_calibrate, simulate_and_replay};
 use sins_imu::{ImuErrorParams, ParamModel};
@@ -19,6 +19,35 @@ pub enum Job {
     Point,
     /// Sample `index` of a slot.
     Draw(Slot, usize),
+    /// Row `index` of the pick-freeze matrix `A_B^g` of group `g` ([`crate::sobol`]).
+    Mix(usize, usize),
+}
+
+impl Job {
+    /// The sample index within its study.
+    pub fn index(self) -> usize {
+        match self {
+            Job::Point => 0,
+            Job::Draw(_, i) | Job::Mix(_, i) => i,
+        }
+    }
+
+    /// The job's draw (`None` for the point replica).
+    pub fn draw(self, set: &AssumptionSet) -> Option<Draw> {
+        match self {
+            Job::Point => None,
+            Job::Draw(slot, i) => Some(draw(set, slot, i)),
+            Job::Mix(g, i) => Some(crate::sobol::mixed_draw(set, g, i)),
+        }
+    }
+}
+
+/// Study name of the pick-freeze matrix B.
+pub const PICK_FREEZE_B: &str = "pickfreeze_b";
+
+/// Study name of the pick-freeze matrix `A_B^g` of group number `g`.
+pub fn pick_freeze_study(g: usize) -> String {
+    format!("pickfreeze_g{g}")
 }
 
 /// The results of one sample.
@@ -45,16 +74,23 @@ pub fn study_name(set: &AssumptionSet, job: Job) -> String {
         Job::Point => "point".to_string(),
         Job::Draw(Slot::Main, _) => "replica".to_string(),
         Job::Draw(Slot::Candidate(c), _) => set.candidates[c].name.clone(),
+        Job::Draw(Slot::Resample, _) => PICK_FREEZE_B.to_string(),
+        Job::Mix(g, _) => pick_freeze_study(g),
     }
 }
 
-/// Every job of a study in a fixed order: the point replica, the main Monte Carlo, then each
-/// candidate's samples.
+/// Every job of a study in a fixed order: the point replica, the main Monte Carlo, each
+/// candidate's samples, then the pick-freeze rows (B and every group's `A_B^g`, row by row).
 pub fn all_jobs(set: &AssumptionSet) -> Vec<Job> {
     let mut jobs = vec![Job::Point];
     jobs.extend((0..set.samples).map(|i| Job::Draw(Slot::Main, i)));
     for (c, cand) in set.candidates.iter().enumerate() {
         jobs.extend((0..cand.samples).map(|i| Job::Draw(Slot::Candidate(c), i)));
+    }
+    let groups = crate::sobol::groups(set).len();
+    for i in 0..set.pick_freeze_samples.min(set.samples) {
+        jobs.push(Job::Draw(Slot::Resample, i));
+        jobs.extend((0..groups).map(|g| Job::Mix(g, i)));
     }
     jobs
 }
@@ -68,17 +104,17 @@ pub fn run_job(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<SampleOutcome, UqError> {
     let study = study_name(set, job);
-    let (scenarios, values, index) = match job {
-        Job::Point => (point(base), vec![None; set.assumptions.len()], 0),
-        Job::Draw(slot, i) => {
-            let d = draw(set, slot, i);
+    let index = job.index();
+    let (scenarios, values) = match job.draw(set) {
+        None => (point(base), vec![None; set.assumptions.len()]),
+        Some(d) => {
             let values = set
                 .assumptions
                 .iter()
                 .zip(&d.values)
                 .map(|(a, v)| (!a.knob.is_per_element()).then_some(*v))
                 .collect();
-            (build(base, set, &d), values, i)
+            (build(base, set, &d), values)
         }
     };
     let fail = |source| UqError::Pipeline {
@@ -152,9 +188,9 @@ fn calibrate(
 /// Samples of data a job simulates (for progress bars): its calibration run(s) and its
 /// navigation runs.
 pub fn job_work(base: &ReplicaBase, set: &AssumptionSet, job: Job) -> u64 {
-    let sc = match job {
-        Job::Point => point(base),
-        Job::Draw(slot, i) => build(base, set, &draw(set, slot, i)),
+    let sc = match job.draw(set) {
+        None => point(base),
+        Some(d) => build(base, set, &d),
     };
     let n = |sc| sins_harness::pipeline::scenario_samples(sc).unwrap_or(0);
     n(&sc.cal42) + sc.cal30.as_ref().map_or(0, n) + sc.navigation.iter().map(n).sum::<u64>()

@@ -7,6 +7,7 @@
 use crate::assumptions::{AssumptionSet, Distribution};
 use crate::gap::{CandidateCells, GapDiagnosis, diagnose};
 use crate::sample::SampleOutcome;
+use crate::sobol::{GroupIndex, design_rows, group_indices};
 use crate::stats::{self, IndexInterval, bootstrap_quantile_se, mean_sd, quantile};
 use crate::vv::Validation;
 use crate::{NMI_M, UqError};
@@ -151,6 +152,10 @@ pub struct CellSensitivity {
     /// Per assumption that varies: its first-order index with a 90 % bootstrap interval,
     /// largest first.
     pub inputs: Vec<InputIndex>,
+    /// Per group (the file's groups and the noise realisation): first-order and total indices
+    /// from the pick-freeze design, when it ran (`pick_freeze_samples` > 0).
+    #[serde(default)]
+    pub groups: Vec<GroupIndex>,
 }
 
 /// One assumption's first-order Sobol index.
@@ -203,6 +208,9 @@ pub struct UqSummary {
     pub seed: u64,
     /// Main Monte Carlo samples.
     pub samples: usize,
+    /// Rows of the pick-freeze design behind the grouped indices (0: not run).
+    #[serde(default)]
+    pub pick_freeze_samples: usize,
     /// The assumptions.
     pub assumptions: Vec<AssumptionInfo>,
     /// Per cell.
@@ -269,7 +277,7 @@ pub fn summarize(
     let runs = main[0].max_horizontal_m.len();
     let ids = all_cells(runs);
     let inputs = varying_inputs(set, &main);
-    let cells = ids
+    let mut cells: Vec<CellSummary> = ids
         .iter()
         .enumerate()
         .map(|(k, id)| {
@@ -285,6 +293,13 @@ pub fn summarize(
             )
         })
         .collect();
+    for (k, (id, cell)) in ids.iter().zip(&mut cells).enumerate() {
+        if let Some(sens) = &mut cell.sensitivity {
+            let value = |o: &SampleOutcome| crate::gap::transform(*id, id.value(o));
+            let seed = set.seed ^ (0x50b0_0000 + k as u64);
+            sens.groups = group_indices(set, outcomes, &value, BOOTSTRAP_RESAMPLES, seed);
+        }
+    }
     let table2 = paper
         .table2
         .iter()
@@ -300,6 +315,7 @@ pub fn summarize(
         schema: UQ_SCHEMA,
         seed: set.seed,
         samples: main.len(),
+        pick_freeze_samples: design_rows(set, outcomes).len(),
         assumptions: set
             .assumptions
             .iter()
@@ -410,6 +426,7 @@ fn cell_summary(
         CellSensitivity {
             sum_first_order: list.iter().map(|g| g.first_order).sum(),
             inputs: list,
+            groups: Vec::new(),
         }
     });
     CellSummary {

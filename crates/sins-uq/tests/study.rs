@@ -130,6 +130,7 @@ fn set() -> AssumptionSet {
             },
         ],
         samples: 4,
+        pick_freeze_samples: 0,
         seed: 7,
         choose_on: vec![CellId {
             experiment: 1,
@@ -179,6 +180,60 @@ fn draws_are_deterministic_and_follow_their_distributions() {
             .iter()
             .all(|m| (m.abs() / (5e-4 * sins_nav::DEG_PER_H) - 1.0).abs() < 1e-12)
     );
+}
+
+#[test]
+fn pick_freeze_rows_take_exactly_their_group_from_the_resample() {
+    let s = set();
+    let names = sins_uq::sobol::groups(&s);
+    // "mount" never varies (weights 1, 0, 0): no group of its own; the noise realisation last.
+    assert_eq!(
+        names,
+        ["cal30", "drop", "tb_z", "phase", "noise realisation"]
+    );
+    let a = draw(&s, Slot::Main, 1);
+    let b = draw(&s, Slot::Resample, 1);
+    assert_ne!(a.cal_seed, b.cal_seed);
+    for (g, name) in names.iter().enumerate() {
+        let m = sins_uq::sobol::mixed_draw(&s, g, 1);
+        for (i, asm) in s.assumptions.iter().enumerate() {
+            let want = if &asm.group == name {
+                b.values[i]
+            } else {
+                a.values[i]
+            };
+            assert_eq!(
+                m.values[i].to_bits(),
+                want.to_bits(),
+                "group {name} value {i}"
+            );
+        }
+        let noise = name == "noise realisation";
+        let seeds = |d: &sins_uq::draw::Draw| (d.cal_seed, d.cal30_seed, d.nav_seeds.clone());
+        assert_eq!(
+            seeds(&m),
+            if noise { seeds(&b) } else { seeds(&a) },
+            "{name}"
+        );
+        let phase = name == "phase";
+        assert_eq!(
+            m.element_seed,
+            if phase {
+                b.element_seed
+            } else {
+                a.element_seed
+            }
+        );
+    }
+    // The design's jobs: one B row and one row per group for each pick-freeze index.
+    let mut s2 = s.clone();
+    s2.pick_freeze_samples = 3;
+    assert_eq!(
+        all_jobs(&s2).len(),
+        all_jobs(&s).len() + 3 * (1 + names.len())
+    );
+    s2.pick_freeze_samples = 5;
+    assert!(s2.validate().is_err(), "more rows than main samples");
 }
 
 #[test]
@@ -243,7 +298,8 @@ fn assumptions_reach_the_scenarios() {
 
 #[test]
 fn point_job_is_the_harness_pipeline_and_summaries_do_not_depend_on_threads_or_shards() {
-    let (b, s) = (base(), set());
+    let (b, mut s) = (base(), set());
+    s.pick_freeze_samples = 2;
     let jobs = all_jobs(&s);
     let serial: Vec<_> = run_jobs(&b, &s, &jobs, 1, &|_| {}, &|_, _| {})
         .into_iter()
@@ -294,6 +350,16 @@ fn point_job_is_the_harness_pipeline_and_summaries_do_not_depend_on_threads_or_s
     let mut shuffled: Vec<_> = serial.iter().cloned().enumerate().collect();
     shuffled.sort_by_key(|(k, _)| (k % 3, usize::MAX - k));
     let shuffled: Vec<_> = shuffled.into_iter().map(|(_, o)| o).collect();
-    let two = serde_json::to_string(&summarize(&s, &shuffled, &paper).unwrap()).unwrap();
+    let summary = summarize(&s, &shuffled, &paper).unwrap();
+    let two = serde_json::to_string(&summary).unwrap();
     assert_eq!(one, two);
+    // The pick-freeze rows reach the summary: 2 rows, an index per group and cell.
+    assert_eq!(summary.pick_freeze_samples, 2);
+    let groups = &summary.cells[0].sensitivity.as_ref().unwrap().groups;
+    assert_eq!(groups.len(), 5);
+    assert!(
+        groups
+            .iter()
+            .all(|g| g.total[0] >= 0.0 && g.total[1] <= g.total[0])
+    );
 }

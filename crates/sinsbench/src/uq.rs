@@ -32,6 +32,11 @@ pub struct Args {
     /// Samples of every candidate of the gap diagnosis (default: each candidate's `samples`).
     #[arg(long, value_parser = clap::value_parser!(u64).range(2..))]
     pub candidate_samples: Option<u64>,
+    /// Rows of the pick-freeze design for grouped first-order and total Sobol indices (default:
+    /// the file's `pick_freeze_samples`; 0 = none). Costs (groups + 1) samples per row (8 with
+    /// the shipped file), reuses the first main samples, so at most --samples.
+    #[arg(long)]
+    pub pick_freeze: Option<u64>,
     /// Master seed (default: the file's `seed`). Same seed, same file: byte-identical summary.
     #[arg(long)]
     pub seed: Option<u64>,
@@ -74,7 +79,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         .clone()
         .unwrap_or_else(|| defaults::experiments_dir().join("replica/assumptions.toml"));
     let mut study = load_uq_study(&path)?;
-    apply_overrides(&mut study, &args);
+    apply_overrides(&mut study, &args)?;
     prepare_out(&args.out, &manifest(&path, &study)?)?;
     let jobs = all_jobs(&study.set);
     let missing: Vec<Job> = jobs
@@ -82,7 +87,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         .enumerate()
         .filter(|(k, _)| args.shard.is_none_or(|(i, n)| k % n == i))
         .map(|(_, j)| *j)
-        .filter(|j| !sample_path(&args.out, &study_name(&study.set, *j), index_of(*j)).exists())
+        .filter(|j| !sample_path(&args.out, &study_name(&study.set, *j), j.index()).exists())
         .collect();
     if !args.summarize_only && !missing.is_empty() {
         run_missing(&study, &missing, &args, quiet)?;
@@ -124,14 +129,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     Ok(())
 }
 
-fn index_of(job: Job) -> usize {
-    match job {
-        Job::Point => 0,
-        Job::Draw(_, i) => i,
-    }
-}
-
-fn apply_overrides(study: &mut UqStudy, args: &Args) {
+fn apply_overrides(study: &mut UqStudy, args: &Args) -> Result<()> {
     if let Some(n) = args.samples {
         study.set.samples = n as usize;
     }
@@ -143,6 +141,14 @@ fn apply_overrides(study: &mut UqStudy, args: &Args) {
     if let Some(s) = args.seed {
         study.set.seed = s;
     }
+    if let Some(n) = args.pick_freeze {
+        study.set.pick_freeze_samples = n as usize;
+    }
+    study
+        .set
+        .validate()
+        .context("--samples / --candidate-samples / --pick-freeze")?;
+    Ok(())
 }
 
 /// What a sample depends on: the assumptions file and everything it reads, the seed and the
@@ -232,7 +238,7 @@ fn collect(study: &UqStudy, jobs: &[Job], out: &Path) -> Result<(Vec<SampleOutco
     let mut outcomes = Vec::new();
     let mut absent = Vec::new();
     for &j in jobs {
-        let p = sample_path(out, &study_name(&study.set, j), index_of(j));
+        let p = sample_path(out, &study_name(&study.set, j), j.index());
         match read_sample(&p)? {
             Some(o) => outcomes.push(o),
             None => absent.push(
