@@ -26,7 +26,7 @@ mod effects;
 mod error;
 mod exact;
 mod experiment;
-mod files;
+pub mod files;
 mod motion;
 mod params;
 mod params_write;

@@ -2,94 +2,59 @@
 //! over the target. A failure or crash never leaves a half-written file at the target path and
 //! never clobbers a good existing file.
 
-use std::fs::{File, OpenOptions};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::fs::File;
+use std::path::Path;
 
 use polars::prelude::{DataFrame, KeyValueMetadata, ParquetCompression, ParquetWriter};
+use sins_config::files::Temporary;
 
 use crate::error::DataError;
 
-static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// A temporary file beside a target path; removed on drop unless [`TempPath::commit`] ran.
+/// A temporary file beside a target path (`.NAME.tmp-PID-N`, registered with
+/// [`sins_config::files`] so that the binary's signal handler removes it); removed on drop
+/// unless [`TempPath::commit`] ran.
 #[derive(Debug)]
 pub(crate) struct TempPath {
-    path: PathBuf,
-    target: PathBuf,
-    armed: bool,
+    temp: Temporary,
+    target: std::path::PathBuf,
 }
 
 impl TempPath {
-    /// Create a new, empty, uniquely named temporary file in the target's directory.
+    /// Create a new, empty, uniquely named temporary file in the target's directory. Refuses a
+    /// target that is an existing directory.
     pub fn create(target: &Path) -> Result<(Self, File), DataError> {
-        let name = target
-            .file_name()
-            .ok_or_else(|| DataError::invalid_write(target, "the path has no file name"))?;
-        let dir = match target.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-            _ => PathBuf::from("."),
-        };
-        for _ in 0..100 {
-            let n = TEMP_COUNTER.fetch_add(1, Ordering::Relaxed);
-            let mut tmp_name = std::ffi::OsString::from(".");
-            tmp_name.push(name);
-            tmp_name.push(format!(".tmp-{}-{n}", std::process::id()));
-            let path = dir.join(tmp_name);
-            match OpenOptions::new().write(true).create_new(true).open(&path) {
-                Ok(file) => {
-                    let guard = Self {
-                        path,
-                        target: target.to_path_buf(),
-                        armed: true,
-                    };
-                    return Ok((guard, file));
-                }
-                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
-                Err(e) => {
-                    return Err(DataError::io(
-                        target,
-                        "creating a temporary file in the target directory",
-                        e,
-                    ));
-                }
-            }
+        if std::fs::symlink_metadata(target).is_ok_and(|m| m.is_dir()) {
+            return Err(DataError::invalid_write(
+                target,
+                "exists and is a directory, where a file is to be written; it is left untouched \
+                 (choose another path or remove it)",
+            ));
         }
-        Err(DataError::invalid_write(
-            target,
-            "could not find a free temporary file name",
+        let (temp, file) = Temporary::file(target).map_err(|e| {
+            DataError::io(
+                target,
+                "creating a temporary file in the target directory",
+                e,
+            )
+        })?;
+        Ok((
+            Self {
+                temp,
+                target: target.to_path_buf(),
+            },
+            file,
         ))
     }
 
     /// fsync `file` (the temporary file, fully written), rename it over the target and fsync
     /// the directory (best effort).
-    pub fn commit(mut self, file: File) -> Result<(), DataError> {
+    pub fn commit(self, file: File) -> Result<(), DataError> {
         file.sync_all()
             .map_err(|e| DataError::io(&self.target, "syncing the temporary file", e))?;
         drop(file);
-        std::fs::rename(&self.path, &self.target).map_err(|e| {
-            DataError::io(&self.target, "renaming the temporary file into place", e)
-        })?;
-        self.armed = false;
-        if let Some(dir) = self.target.parent() {
-            let dir = if dir.as_os_str().is_empty() {
-                Path::new(".")
-            } else {
-                dir
-            };
-            if let Ok(d) = File::open(dir) {
-                let _ = d.sync_all();
-            }
-        }
-        Ok(())
-    }
-}
-
-impl Drop for TempPath {
-    fn drop(&mut self) {
-        if self.armed {
-            let _ = std::fs::remove_file(&self.path);
-        }
+        self.temp
+            .commit(&self.target)
+            .map_err(|e| DataError::io(&self.target, "renaming the temporary file into place", e))
     }
 }
 

@@ -1,4 +1,6 @@
-//! Writing a diagnosis directory atomically: `report.md`, `diagnosis.json`, one PNG per run and
+//! Writing a diagnosis directory atomically (every file written aside and renamed, the directory
+//! staged and swapped in; a path in the way that is not a previous diagnosis is refused):
+//! `report.md`, `diagnosis.json`, one PNG per run and
 //! `diagnosis.rrd`.
 
 use crate::GapError;
@@ -72,15 +74,14 @@ pub fn write_diagnosis(
     name: &str,
     o: &DiagnosisOutcome,
 ) -> Result<PathBuf, GapError> {
-    let files = sins_report::write_dir_atomically(dir_parent, name, |dir| {
-        let io = |p: PathBuf, e| ReportError::io(p, e);
+    let files = sins_report::write_dir_atomically(dir_parent, name, "diagnose", |dir| {
         let mut files = Vec::new();
         let mut plots = Vec::new();
         for s in &o.diagnosis.series {
             let png = plot_run(s)
                 .map_err(|e| ReportError::Mismatch(format!("plot of run {}: {e}", s.run)))?;
             let f = format!("gap_{}.png", s.run);
-            std::fs::write(dir.join(&f), png).map_err(|e| io(dir.join(&f), e))?;
+            sins_report::write_bytes(&dir.join(&f), &png)?;
             plots.push(f.clone());
             files.push(f);
         }
@@ -105,11 +106,10 @@ pub fn write_diagnosis(
         files.push("diagnosis.rrd".into());
         let json = serde_json::to_string_pretty(o)
             .map_err(|e| ReportError::Mismatch(format!("serialising the diagnosis: {e}")))?;
-        std::fs::write(dir.join("diagnosis.json"), json)
-            .map_err(|e| io(dir.join("diagnosis.json"), e))?;
+        sins_report::write_bytes(&dir.join("diagnosis.json"), json.as_bytes())?;
         files.push("diagnosis.json".into());
         let md = crate::markdown::render_markdown(o, &plots);
-        std::fs::write(dir.join("report.md"), md).map_err(|e| io(dir.join("report.md"), e))?;
+        sins_report::write_bytes(&dir.join("report.md"), md.as_bytes())?;
         files.push("report.md".into());
         Ok(files)
     })?;

@@ -33,6 +33,17 @@ pub enum ReportError {
         /// The polars error.
         source: polars::error::PolarsError,
     },
+    /// An existing path where an output goes is not a previous output of the command; it is
+    /// left untouched.
+    #[error(
+        "{path}: {why}; sinsbench leaves it untouched: choose another output directory or remove it"
+    )]
+    Refused {
+        /// The existing path.
+        path: PathBuf,
+        /// What it is.
+        why: String,
+    },
     /// The inputs do not fit together.
     #[error("{0}")]
     Mismatch(String),

@@ -25,7 +25,9 @@ mod uq_write;
 pub use dataset::{replay_dataset, require_temperatures};
 pub use error::ReportError;
 pub use markdown::render_markdown;
-pub use output::{ReportFiles, write_dir_atomically, write_report};
+pub use output::{
+    OUTPUT_MARKER, ReportFiles, check_output_dir, write_bytes, write_dir_atomically, write_report,
+};
 pub use run::{Progress, ReportRun, ResolvedSet, run_report};
 pub use simulate::{dataset_meta, simulate_to_dataset, simulate_to_dataset_with};
 pub use uq_config::{

@@ -1,5 +1,11 @@
 //! Rerun `.rrd` logs of sinsbench results, for offline viewing in the Rerun viewer.
 //! Only this crate links rerun, so the numeric crates build and test in seconds.
+//!
+//! A recording is built in memory (a Rerun memory sink: no I/O, so no flush that can hang on a
+//! full disk), encoded, and written aside and renamed into place by
+//! [`sins_config::write_file_atomically`]: a failed write (disk full, read-only directory)
+//! ends at once with an error naming the file, and never leaves a truncated `.rrd` in place of
+//! a good one.
 
 use std::path::Path;
 
@@ -19,6 +25,71 @@ pub enum VizError {
         /// What rerun reported.
         message: String,
     },
+    /// The encoded recording could not be written to its file.
+    #[error("{path}: cannot write Rerun recording: {source}")]
+    Write {
+        /// Target file.
+        path: String,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// A recording file does not decode (truncated or not a recording).
+    #[error("{path}: not a complete Rerun recording: {message}")]
+    Invalid {
+        /// The file.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// A recording stream that keeps everything in memory, and its storage.
+pub(crate) fn memory_stream(
+    builder: rerun::RecordingStreamBuilder,
+    path: &Path,
+) -> Result<(rerun::RecordingStream, rerun::sink::MemorySinkStorage), VizError> {
+    builder.memory().map_err(|e| VizError::Rerun {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })
+}
+
+/// Encodes what `storage` holds and writes it to `path` aside and renamed into place.
+pub(crate) fn save_memory(
+    storage: &rerun::sink::MemorySinkStorage,
+    path: &Path,
+) -> Result<(), VizError> {
+    let bytes = storage.drain_as_bytes().map_err(|e| VizError::Rerun {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    sins_config::write_file_atomically(path, &bytes).map_err(|source| VizError::Write {
+        path: path.display().to_string(),
+        source,
+    })
+}
+
+/// Decodes every message of the recording at `path` and checks that it ends with Rerun's
+/// footer (a truncated file fails); returns the number of messages.
+pub fn verify_recording(path: &Path) -> Result<usize, VizError> {
+    use rerun::external::re_log_encoding::rrd::DecoderApp;
+    let invalid = |message: String| VizError::Invalid {
+        path: path.display().to_string(),
+        message,
+    };
+    let file = std::fs::File::open(path).map_err(|e| invalid(e.to_string()))?;
+    let mut it = DecoderApp::decode_eager(std::io::BufReader::new(file))
+        .map_err(|e| invalid(e.to_string()))?;
+    let mut n = 0;
+    for msg in it.by_ref() {
+        let _msg = msg.map_err(|e| invalid(e.to_string()))?;
+        n += 1;
+    }
+    let manifests = it.rrd_manifests().map_err(|e| invalid(e.to_string()))?;
+    if manifests.is_empty() {
+        return Err(invalid("no footer (the file is cut short)".into()));
+    }
+    Ok(n)
 }
 
 /// One named time series: `(t_s, value)` pairs logged as scalars under `entity`.
@@ -29,17 +100,17 @@ pub struct Series<'a> {
     pub points: &'a [(f64, f64)],
 }
 
-/// Write scalar time series to an `.rrd` file on a `time_s` timeline (application id
+/// Write scalar time series to an `.rrd` file (aside, then renamed into place) on a `time_s` timeline (application id
 /// `sinsbench`, recording named `name`).
 pub fn write_series(path: &Path, name: &str, series: &[Series<'_>]) -> Result<(), VizError> {
     let err = |e: &dyn std::fmt::Display| VizError::Rerun {
         path: path.display().to_string(),
         message: e.to_string(),
     };
-    let rec = rerun::RecordingStreamBuilder::new("sinsbench")
-        .recording_name(name)
-        .save(path)
-        .map_err(|e| err(&e))?;
+    let (rec, storage) = memory_stream(
+        rerun::RecordingStreamBuilder::new("sinsbench").recording_name(name),
+        path,
+    )?;
     for s in series {
         for &(t, v) in s.points {
             rec.set_duration_secs("time_s", t);
@@ -47,6 +118,5 @@ pub fn write_series(path: &Path, name: &str, series: &[Series<'_>]) -> Result<()
                 .map_err(|e| err(&e))?;
         }
     }
-    rec.flush_blocking().map_err(|e| err(&e))?;
-    Ok(())
+    save_memory(&storage, path)
 }

@@ -116,11 +116,12 @@ fn write_with_layout(
         path: path.display().to_string(),
         message: e.to_string(),
     };
-    let stream = rerun::RecordingStreamBuilder::new("sinsbench")
-        .recording_name(name)
-        .with_blueprint(blueprint)
-        .save(path)
-        .map_err(|e| err(&e))?;
+    let (stream, storage) = crate::memory_stream(
+        rerun::RecordingStreamBuilder::new("sinsbench")
+            .recording_name(name)
+            .with_blueprint(blueprint),
+        path,
+    )?;
     for s in &rec.series {
         let times = rerun::TimeColumn::new_duration_secs(TIMELINE, s.times_s.iter().copied());
         let columns = rerun::Scalars::update_fields()
@@ -145,6 +146,5 @@ fn write_with_layout(
             .log("segments", &rerun::TextLog::new(a.text.as_str()))
             .map_err(|e| err(&e))?;
     }
-    stream.flush_blocking().map_err(|e| err(&e))?;
-    Ok(())
+    crate::save_memory(&storage, path)
 }

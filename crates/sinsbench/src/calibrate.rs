@@ -73,6 +73,16 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         );
     }
     sins_config::ParamFormat::from_path(&args.out)?;
+    let history = history_path(&args.out);
+    let rrd = args.out.with_extension("rrd");
+    for (path, what) in [
+        (&args.out, "parameter"),
+        (&history, "history"),
+        (&rrd, "Rerun recording"),
+    ] {
+        crate::outputs::check_file_target(path, what)?;
+    }
+    crate::outputs::sweep(args.out.parent().unwrap_or(Path::new(".")));
     let noise = FilterNoise::from_sensor(
         args.gyro_arw_deg_per_sqrt_h * sins_nav::DEG / 60.0,
         gauss_markov_sigma_from_allan(args.gyro_bias_instability_deg_per_h * DEG_PER_H),
@@ -116,9 +126,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             description,
         },
     )?;
-    let history = history_path(&args.out);
     let curves = write_history(&history, &result, model, args.reference_temperature_degc)?;
-    let rrd = args.out.with_extension("rrd");
     let series: Vec<sins_viz::Series<'_>> = curves
         .iter()
         .map(|(entity, points)| sins_viz::Series { entity, points })

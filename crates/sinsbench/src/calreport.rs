@@ -36,15 +36,21 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             (config.seeds + 7) * 2
         );
     }
+    crate::outputs::sweep(&args.reports_dir);
+    sins_report::check_output_dir(&args.reports_dir, "calibration", "calibration-report")?;
     let study = run_study(&config)?;
     let json = serde_json::to_string_pretty(&study).context("serialising the study")?;
     let md = render_markdown(&study);
-    let files = sins_report::write_dir_atomically(&args.reports_dir, "calibration", |dir| {
-        for (name, text) in [("report.md", &md), ("summary.json", &json)] {
-            std::fs::write(dir.join(name), text)
-                .map_err(|e| sins_report::ReportError::io(dir.join(name), e))?;
-        }
-        Ok(vec!["report.md".into(), "summary.json".into()])
-    })?;
+    let files = sins_report::write_dir_atomically(
+        &args.reports_dir,
+        "calibration",
+        "calibration-report",
+        |dir| {
+            for (name, text) in [("report.md", &md), ("summary.json", &json)] {
+                sins_report::write_bytes(&dir.join(name), text.as_bytes())?;
+            }
+            Ok(vec!["report.md".into(), "summary.json".into()])
+        },
+    )?;
     say!("wrote {}/report.md and summary.json", files.dir.display())
 }

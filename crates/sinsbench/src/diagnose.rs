@@ -77,6 +77,14 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             .find(|(n, _)| n == "cal")
             .map(|(n, _)| n.clone()),
     };
+    let parent = args.out.parent().map_or(PathBuf::from("."), PathBuf::from);
+    let name = args
+        .out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .context("--out must name a directory")?;
+    crate::outputs::sweep(&parent);
+    sins_report::check_output_dir(&parent, &name, "diagnose")?;
     let set = sins_config::load_params(&args.params)?;
     let noise_path = args
         .noise_from
@@ -113,12 +121,6 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         calibration_run,
         config,
     })?;
-    let parent = args.out.parent().map_or(PathBuf::from("."), PathBuf::from);
-    let name = args
-        .out
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .context("--out must name a directory")?;
     let dir = write_diagnosis(&parent, &name, &outcome)?;
     say!("verdict: {:?}", outcome.diagnosis.verdict)?;
     for c in outcome.diagnosis.candidates.iter().take(3) {

@@ -13,6 +13,7 @@ mod diagnose;
 mod gate;
 mod navigate;
 mod out;
+mod outputs;
 mod progress;
 mod report;
 mod simulate;
@@ -95,6 +96,10 @@ enum Command {
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let started = std::time::Instant::now();
+    if let Err(e) = outputs::install() {
+        out::note!("error: {}", error_chain(&e));
+        return std::process::ExitCode::from(2);
+    }
     let result = match cli.command {
         Command::Simulate(a) => simulate::run(a, cli.quiet),
         Command::Navigate(a) => navigate::run(a, cli.quiet),

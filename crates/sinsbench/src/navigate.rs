@@ -97,10 +97,14 @@ impl Algorithm {
 
 /// Run `navigate`.
 pub fn run(args: Args, quiet: bool) -> Result<()> {
+    if let Some(dir) = &args.out {
+        crate::outputs::create_dir_target(dir, "output")?;
+        crate::outputs::check_file_target(&dir.join("errors.parquet"), "error track")?;
+        crate::outputs::sweep(dir);
+    }
     let (info, points, summary) = replay(&args, quiet)?;
     print_summary(&info, &summary)?;
     if let Some(dir) = &args.out {
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         let path = dir.join("errors.parquet");
         write_errors(&path, &info, &points)?;
         say!("wrote {}", path.display())?;

@@ -30,6 +30,8 @@ pub struct Args {
 pub fn produce(args: &Args, quiet: bool) -> Result<PathBuf> {
     let path = args.config.clone().unwrap_or_else(defaults::report_config);
     let config = load_report_config(&path)?;
+    crate::outputs::sweep(&args.reports_dir);
+    sins_report::check_output_dir(&args.reports_dir, &config.name, "report")?;
     let mut bars = progress::Bars::new(quiet);
     let uq = args.uq.as_deref().map(load_uq_summary).transpose()?;
     let mut run = sins_report::run_report(&config, &mut bars)?;
