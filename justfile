@@ -34,3 +34,8 @@ bench:
 check:
     cargo fmt --all -- --check
     cargo clippy --release --workspace --all-targets
+
+# Fuzz the readers and parsers (cargo-fuzz, nightly): every target for SECS seconds one after the
+# other, or only TARGET. `cargo install cargo-fuzz` first; see README.md, "Fuzzing".
+fuzz TARGET="" SECS="600":
+    fuzz/run.sh "{{TARGET}}" "{{SECS}}"
