@@ -76,6 +76,9 @@ pub struct ReportConfig {
     pub paper_table5: Option<PathBuf>,
     /// Release-gate thresholds applied after the report, if given.
     pub gate: Option<PathBuf>,
+    /// A `sinsbench replica-uq` output directory whose intervals and V&V verdicts the report
+    /// shows beside the point replica (`report --uq DIR` overrides it).
+    pub uq: Option<PathBuf>,
     /// Replay options.
     pub replay: ReplayOptions,
 }
@@ -92,6 +95,7 @@ struct File {
     navigation: NavigationFile,
     comparison: Option<ComparisonFile>,
     gate: Option<String>,
+    uq: Option<String>,
     #[serde(default)]
     replay: ReplayFile,
 }
@@ -282,6 +286,7 @@ pub fn load_report_config(path: &Path) -> Result<ReportConfig, HarnessError> {
             .and_then(|c| c.paper_table5.as_deref())
             .map(rel),
         gate: f.gate.as_deref().map(rel),
+        uq: f.uq.as_deref().map(rel),
         replay,
     })
 }

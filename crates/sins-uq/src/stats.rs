@@ -142,6 +142,49 @@ pub fn first_order_bootstrap(
     }
 }
 
+/// Permutation p-value of [`first_order_given_data`] against "y does not depend on x": the share
+/// of `permutations` random reorderings of `x` (deterministic from `seed`) whose index reaches
+/// the observed one, `(1 + hits) / (1 + permutations)`. Calibrated whatever the shape of `y`
+/// (a bimodal response inflates the binned index's null spread far beyond normal theory).
+pub fn first_order_permutation_p(
+    x: &[f64],
+    y: &[f64],
+    is_choice: bool,
+    permutations: usize,
+    seed: u64,
+) -> f64 {
+    let bins = default_bins(y.len());
+    let observed = first_order_given_data(x, y, bins, is_choice);
+    let mut s = Stream::new(seed, 4);
+    let mut xp = x.to_vec();
+    let mut hits = 0;
+    for _ in 0..permutations {
+        for i in (1..xp.len()).rev() {
+            let j = ((s.uniform() * (i + 1) as f64) as usize).min(i);
+            xp.swap(i, j);
+        }
+        if first_order_given_data(&xp, y, bins, is_choice) >= observed {
+            hits += 1;
+        }
+    }
+    (1 + hits) as f64 / (1 + permutations) as f64
+}
+
+/// Benjamini-Hochberg: which of `p` are discoveries at false-discovery rate `q` (the largest
+/// rank k with p_(k) <= k q / m, and every p at or below it).
+pub fn benjamini_hochberg(p: &[f64], q: f64) -> Vec<bool> {
+    let m = p.len();
+    let mut order: Vec<usize> = (0..m).collect();
+    order.sort_by(|&a, &b| p[a].total_cmp(&p[b]));
+    let cut = order
+        .iter()
+        .enumerate()
+        .filter(|(k, i)| p[**i] <= (k + 1) as f64 * q / m as f64)
+        .map(|(_, i)| p[*i])
+        .last();
+    p.iter().map(|v| cut.is_some_and(|c| *v <= c)).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -201,5 +244,40 @@ mod tests {
         let yc: Vec<f64> = c.iter().map(|c| 4.0 * c + s.normal()).collect();
         let sc = first_order_given_data(&c, &yc, 2, true);
         assert!((sc - 4.0 / 5.0).abs() < 0.03, "{sc}");
+    }
+
+    #[test]
+    fn benjamini_hochberg_matches_a_worked_example() {
+        // m = 5, q = 0.1: thresholds 0.02, 0.04, 0.06, 0.08, 0.1; sorted p 0.001, 0.03, 0.05,
+        // 0.2, 0.9: the largest passing rank is 3 (0.05 <= 0.06), so the three smallest.
+        let p = [0.2, 0.05, 0.001, 0.9, 0.03];
+        assert_eq!(
+            benjamini_hochberg(&p, 0.1),
+            [false, true, true, false, true]
+        );
+        assert_eq!(benjamini_hochberg(&[0.5, 0.6], 0.1), [false, false]);
+    }
+
+    #[test]
+    fn permutation_p_is_calibrated_on_a_bimodal_response() {
+        // y: two clusters 10 sd apart (the 30-state cells' ramp / stable split), x independent
+        // of y, 32 samples as in the default study. Under the null, P(p <= 0.05) = 0.05: 300
+        // trials give 15 rejections, binomial sd 3.8; the 5 sd band is [0, 34].
+        let mut s = Stream::new(21, 0);
+        let mut rejections = 0;
+        for t in 0..300 {
+            let y: Vec<f64> = (0..32)
+                .map(|_| if s.uniform() < 0.5 { 0.0 } else { 10.0 } + s.normal())
+                .collect();
+            let x: Vec<f64> = (0..32).map(|_| s.uniform()).collect();
+            if first_order_permutation_p(&x, &y, false, 99, t) <= 0.05 {
+                rejections += 1;
+            }
+        }
+        assert!(rejections <= 34, "{rejections} of 300 rejected at 5 %");
+        // A real dependence is found: y = 3 x + noise, 32 samples.
+        let x: Vec<f64> = (0..32).map(|_| s.uniform()).collect();
+        let y: Vec<f64> = x.iter().map(|x| 3.0 * x + 0.3 * s.normal()).collect();
+        assert!(first_order_permutation_p(&x, &y, false, 199, 1) < 0.01);
     }
 }

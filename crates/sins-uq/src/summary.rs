@@ -17,6 +17,11 @@ use serde::{Deserialize, Serialize};
 pub const UQ_SCHEMA: u32 = 1;
 /// Bootstrap resamples for quantile errors and Sobol intervals.
 pub const BOOTSTRAP_RESAMPLES: usize = 400;
+/// Permutations behind each first-order index's p-value (999: the smallest p, 0.001, can pass
+/// a false-discovery control over about 50 assumptions).
+pub const PERMUTATIONS: usize = 999;
+/// False-discovery rate of the per-cell Benjamini-Hochberg selection of influential assumptions.
+pub const FDR: f64 = 0.1;
 /// The replay's error-free floor over the paper's 15 h run (m): the numerical uncertainty of a
 /// single replay.
 pub const FLOOR_M: f64 = 0.3;
@@ -171,6 +176,14 @@ pub struct InputIndex {
     pub low: f64,
     /// 95 % bootstrap quantile.
     pub high: f64,
+    /// Permutation p-value against "the cell does not depend on it"
+    /// ([`stats::first_order_permutation_p`], [`PERMUTATIONS`] reorderings).
+    #[serde(default)]
+    pub p_value: f64,
+    /// Influential at false-discovery rate [`FDR`] over the cell's assumptions
+    /// (Benjamini-Hochberg on the p-values).
+    #[serde(default)]
+    pub discovered: bool,
 }
 
 /// Table 2 against the replica.
@@ -409,15 +422,28 @@ fn cell_summary(
                     BOOTSTRAP_RESAMPLES / 2,
                     seed ^ ((j as u64) << 20),
                 );
+                let p_value = stats::first_order_permutation_p(
+                    x,
+                    &y,
+                    *choice,
+                    PERMUTATIONS,
+                    seed ^ ((j as u64) << 20),
+                );
                 InputIndex {
                     name: name.clone(),
                     group: group.clone(),
                     first_order: i.value,
                     low: i.low,
                     high: i.high,
+                    p_value: sig(p_value),
+                    discovered: false,
                 }
             })
             .collect();
+        let p: Vec<f64> = list.iter().map(|i| i.p_value).collect();
+        for (i, d) in list.iter_mut().zip(stats::benjamini_hochberg(&p, FDR)) {
+            i.discovered = d;
+        }
         list.sort_by(|a, b| {
             b.first_order
                 .total_cmp(&a.first_order)

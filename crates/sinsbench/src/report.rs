@@ -21,7 +21,8 @@ pub struct Args {
     pub reports_dir: PathBuf,
     /// A `replica-uq` output directory: report.md then shows, per Table 5 cell, the Monte Carlo
     /// median and 5-95 % interval and the V&V 20 verdict against the paper beside the point
-    /// replica (read from DIR/summary.json; nothing is recomputed).
+    /// replica (read from DIR/summary.json; nothing is recomputed). Overrides the
+    /// configuration's `uq` key.
     #[arg(long)]
     pub uq: Option<PathBuf>,
 }
@@ -33,7 +34,8 @@ pub fn produce(args: &Args, quiet: bool) -> Result<PathBuf> {
     crate::outputs::sweep(&args.reports_dir);
     sins_report::check_output_dir(&args.reports_dir, &config.name, "report")?;
     let mut bars = progress::Bars::new(quiet);
-    let uq = args.uq.as_deref().map(load_uq_summary).transpose()?;
+    let uq_dir = args.uq.clone().or_else(|| config.uq.clone());
+    let uq = uq_dir.as_deref().map(load_uq_summary).transpose()?;
     let mut run = sins_report::run_report(&config, &mut bars)?;
     run.appendix = uq.as_ref().map(sins_report::uq_table_for_report);
     let files = sins_report::write_report(&args.reports_dir, &run)?;

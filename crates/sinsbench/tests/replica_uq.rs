@@ -183,6 +183,68 @@ fn sharded_and_single_process_summaries_are_identical() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("manifest.json differs"));
+    // The pick-freeze design extends the same study (same manifest): 2 rows of B and of the 4
+    // groups' A_B^g (3 file groups and the noise realisation); the main cells do not move.
+    let o = run(&[
+        "replica-uq",
+        "--assumptions",
+        &p(&a),
+        "--out",
+        &p(&one),
+        "--pick-freeze",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let t: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(one.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(t["pick_freeze_samples"], 2);
+    assert_eq!(t["cells"][0]["median"], s["cells"][0]["median"]);
+    let groups = t["cells"][0]["sensitivity"]["groups"].as_array().unwrap();
+    let names: Vec<&str> = groups
+        .iter()
+        .map(|g| g["group"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "calibration",
+            "navigation temperature",
+            "vibration",
+            "noise realisation"
+        ]
+    );
+    for g in groups {
+        let total = g["total"][0].as_f64().unwrap();
+        assert!(total.is_finite() && total >= 0.0, "{g}");
+    }
+    assert!(
+        std::fs::read_to_string(one.join("report.md"))
+            .unwrap()
+            .contains("Grouped first-order and total indices (pick-freeze, 2 rows)")
+    );
+    // A report configuration naming the study shows its intervals (the `uq` key).
+    let cfg = tmp.path().join("report_uq.toml");
+    let text = std::fs::read_to_string(tmp.path().join("report.toml")).unwrap();
+    std::fs::write(&cfg, format!("uq = \"one\"\n{text}")).unwrap();
+    let reports = tmp.path().join("reports");
+    let o = run(&[
+        "report",
+        "--config",
+        &p(&cfg),
+        "--reports-dir",
+        &p(&reports),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let name = text
+        .lines()
+        .find_map(|l| l.strip_prefix("name = \""))
+        .and_then(|l| l.strip_suffix('"'))
+        .unwrap();
+    let md = std::fs::read_to_string(reports.join(name).join("report.md")).unwrap();
+    assert!(
+        md.contains("Table 5 as a prediction (replica-uq, 4 samples, seed 5)"),
+        "{md}"
+    );
 }
 
 #[test]
