@@ -40,6 +40,7 @@ pub fn render_uq_markdown(s: &UqSummary) -> String {
             c.cell
         );
     }
+    by_level(&mut o, s);
     sensitivity(&mut o, s);
     table2(&mut o, s);
     gap(&mut o, s);
@@ -58,6 +59,32 @@ pub fn render_uq_markdown(s: &UqSummary) -> String {
         );
     }
     o
+}
+
+/// The cells split by the levels of their dominant choice assumption.
+fn by_level(o: &mut String, s: &UqSummary) {
+    if s.cells.iter().all(|c| c.by_level.is_empty()) {
+        return;
+    }
+    let _ = writeln!(
+        o,
+        "\nWhere one choice assumption dominates a cell (discovered, first-order index >= {}), the cell is bimodal and its \
+         median lies between the modes (hence the large bootstrap error above); per level:\n",
+        sins_uq::summary::DOMINANT_INDEX
+    );
+    let _ = writeln!(
+        o,
+        "| cell | assumption = level | samples | median (se) | 5-95 % |\n|---|---|---|---|---|"
+    );
+    for c in &s.cells {
+        for l in &c.by_level {
+            let _ = writeln!(
+                o,
+                "| {} | {} = {} | {} | {:.2} ({:.2}) | {:.2} - {:.2} |",
+                c.cell, l.assumption, l.level, l.samples, l.median, l.median_se, l.p05, l.p95
+            );
+        }
+    }
 }
 
 fn sensitivity(o: &mut String, s: &UqSummary) {

@@ -146,6 +146,33 @@ pub struct CellSummary {
     pub validation: Option<Validation>,
     /// First-order Sobol indices of the assumptions (given-data estimator).
     pub sensitivity: Option<CellSensitivity>,
+    /// The cell per level of its dominant choice assumption (a discovered choice with a
+    /// first-order index of at least [`DOMINANT_INDEX`]): a bimodal cell's median falls between
+    /// its modes, so each mode's interval is the useful prediction.
+    #[serde(default)]
+    pub by_level: Vec<LevelSummary>,
+}
+
+/// First-order index from which a discovered choice assumption splits a cell by level.
+pub const DOMINANT_INDEX: f64 = 0.5;
+
+/// A cell conditional on one level of a choice assumption.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LevelSummary {
+    /// The choice assumption.
+    pub assumption: String,
+    /// The level's label.
+    pub level: String,
+    /// Main samples at this level.
+    pub samples: usize,
+    /// Median.
+    pub median: f64,
+    /// 5 % quantile.
+    pub p05: f64,
+    /// 95 % quantile.
+    pub p95: f64,
+    /// Bootstrap standard error of the median.
+    pub median_se: f64,
 }
 
 /// Global sensitivity of one cell.
@@ -462,9 +489,63 @@ fn cell_summary(
         p05: quantile(vals, 0.05),
         p95: quantile(vals, 0.95),
         bootstrap_se: [se[0], se[1], se[2]],
+        by_level: by_level(set, inputs, sensitivity.as_ref(), vals, seed),
         validation,
         sensitivity,
     }
+}
+
+/// [`CellSummary::by_level`]: the cell's values split by the levels of its leading assumption
+/// when that is a discovered choice with index >= [`DOMINANT_INDEX`].
+fn by_level(
+    set: &AssumptionSet,
+    inputs: &Inputs,
+    sens: Option<&CellSensitivity>,
+    vals: &[f64],
+    seed: u64,
+) -> Vec<LevelSummary> {
+    let Some(top) = sens.and_then(|s| s.inputs.first()) else {
+        return Vec::new();
+    };
+    let labels = set
+        .assumptions
+        .iter()
+        .find(|a| a.name == top.name)
+        .and_then(|a| a.distribution.labels());
+    let column = inputs.columns.iter().find(|c| c.0 == top.name);
+    let (Some(labels), Some(column)) = (labels, column) else {
+        return Vec::new();
+    };
+    if !top.discovered || top.first_order < DOMINANT_INDEX {
+        return Vec::new();
+    }
+    labels
+        .iter()
+        .enumerate()
+        .filter_map(|(level, label)| {
+            let v: Vec<f64> = column
+                .3
+                .iter()
+                .zip(vals)
+                .filter(|(x, _)| **x == level as f64)
+                .map(|(_, v)| *v)
+                .collect();
+            (v.len() >= 2).then(|| LevelSummary {
+                assumption: top.name.clone(),
+                level: label.clone(),
+                samples: v.len(),
+                median: sig(quantile(&v, 0.5)),
+                p05: sig(quantile(&v, 0.05)),
+                p95: sig(quantile(&v, 0.95)),
+                median_se: sig(bootstrap_quantile_se(
+                    &v,
+                    &[0.5],
+                    BOOTSTRAP_RESAMPLES,
+                    seed ^ level as u64,
+                )[0]),
+            })
+        })
+        .collect()
 }
 
 fn gap_diagnosis<'a>(
@@ -503,4 +584,76 @@ fn gap_diagnosis<'a>(
         .flat_map(|g| g.paper_std.iter().copied())
         .collect();
     diagnose(ids, &paper.cells, &cands, &set.choose_on, &table2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assumptions::{Assumption, Knob};
+
+    fn set() -> AssumptionSet {
+        AssumptionSet {
+            assumptions: vec![Assumption {
+                name: "chamber".into(),
+                knob: Knob::Cal30Chamber,
+                distribution: Distribution::Choice {
+                    labels: vec!["ramp".into(), "stable".into()],
+                    weights: vec![1.0, 1.0],
+                },
+                group: "g".into(),
+                unit: String::new(),
+                unit_si: 1.0,
+                justification: "t".into(),
+            }],
+            candidates: vec![],
+            samples: 40,
+            pick_freeze_samples: 0,
+            seed: 1,
+            choose_on: vec![],
+        }
+    }
+
+    fn sens(first_order: f64, discovered: bool) -> CellSensitivity {
+        CellSensitivity {
+            sum_first_order: first_order,
+            inputs: vec![InputIndex {
+                name: "chamber".into(),
+                group: "g".into(),
+                first_order,
+                low: 0.0,
+                high: 1.0,
+                p_value: 0.001,
+                discovered,
+            }],
+            groups: vec![],
+        }
+    }
+
+    #[test]
+    fn a_dominant_choice_splits_the_cell_by_level() {
+        // Even samples "ramp" at 50 + k, odd ones "stable" at 1 + k / 100 (k = 0..19).
+        let x: Vec<f64> = (0..40).map(|i| (i % 2) as f64).collect();
+        let vals: Vec<f64> = (0..40)
+            .map(|i| {
+                let k = (i / 2) as f64;
+                if i % 2 == 0 {
+                    50.0 + k
+                } else {
+                    1.0 + k / 100.0
+                }
+            })
+            .collect();
+        let inputs = Inputs {
+            columns: vec![("chamber".into(), "g".into(), true, x)],
+        };
+        let levels = by_level(&set(), &inputs, Some(&sens(0.9, true)), &vals, 3);
+        assert_eq!(levels.len(), 2);
+        assert_eq!((levels[0].level.as_str(), levels[0].samples), ("ramp", 20));
+        assert!((levels[0].median - 59.5).abs() < 1e-9, "{:?}", levels[0]);
+        assert!((levels[1].median - 1.095).abs() < 1e-9, "{:?}", levels[1]);
+        assert!(levels[1].p05 >= 1.0 && levels[1].p95 <= 1.19);
+        // Not discovered, or not dominant: no split.
+        assert!(by_level(&set(), &inputs, Some(&sens(0.9, false)), &vals, 3).is_empty());
+        assert!(by_level(&set(), &inputs, Some(&sens(0.3, true)), &vals, 3).is_empty());
+    }
 }
