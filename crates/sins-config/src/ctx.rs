@@ -2,6 +2,7 @@
 //! its line, checks numbers, and resolves and reads referenced files.
 
 use crate::error::{ConfigError, line_of};
+use crate::plausible::MAX_RUN_DURATION_S;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
@@ -116,16 +117,32 @@ impl<'a> Ctx<'a> {
     }
 
     /// A duration in seconds from exactly one of `<prefix>.duration_s` / `<prefix>.duration_h`,
-    /// required to be positive and finite.
+    /// required to be positive, finite and at most [`MAX_RUN_DURATION_S`].
     pub(crate) fn duration(
         &self,
         prefix: &str,
         seconds: Option<f64>,
         hours: Option<f64>,
     ) -> Result<f64, ConfigError> {
+        let at_most = |key: String, d_s: f64| {
+            if d_s > MAX_RUN_DURATION_S {
+                let msg = format!(
+                    "{d_s} s is longer than the {MAX_RUN_DURATION_S} s (366 days) a run may last"
+                );
+                Err(self.invalid(&key, msg))
+            } else {
+                Ok(d_s)
+            }
+        };
         match (seconds, hours) {
-            (Some(s), None) => self.positive(&format!("{prefix}.duration_s"), s),
-            (None, Some(h)) => Ok(self.positive(&format!("{prefix}.duration_h"), h)? * 3600.0),
+            (Some(s), None) => {
+                let key = format!("{prefix}.duration_s");
+                at_most(key.clone(), self.positive(&key, s)?)
+            }
+            (None, Some(h)) => {
+                let key = format!("{prefix}.duration_h");
+                at_most(key.clone(), self.positive(&key, h)? * 3600.0)
+            }
             (Some(_), Some(_)) => Err(self.invalid(
                 prefix,
                 "give exactly one of `duration_s` and `duration_h`, not both",

@@ -4,6 +4,7 @@ use crate::ctx::Ctx;
 use crate::error::ConfigError;
 use crate::motion::{MotionFile, build_motion};
 use crate::params::{ParamFormat, parse_params_json, parse_params_toml};
+use crate::plausible;
 use crate::thermal::{ThermalFile, build_thermal};
 use crate::toml_util;
 use crate::units::{DEG_PER_SQRT_H, UG_PER_SQRT_HZ};
@@ -128,6 +129,13 @@ pub fn load_experiment(path: impl AsRef<Path>) -> Result<Experiment, ConfigError
     let site = build_site(&ctx, &raw.site)?;
     let s = &raw.sampling;
     let rate_hz = ctx.positive("sampling.rate_hz", s.rate_hz)?;
+    if rate_hz > plausible::MAX_SAMPLE_RATE_HZ {
+        let msg = format!(
+            "{rate_hz} Hz is above the {} Hz maximum (navigation-grade IMUs deliver 100 Hz to 2 kHz)",
+            plausible::MAX_SAMPLE_RATE_HZ
+        );
+        return Err(ctx.invalid("sampling.rate_hz", msg));
+    }
     if !(1..=8).contains(&s.quadrature_nodes) {
         let msg = format!(
             "must be 1..=8 Gauss-Legendre nodes, got {}",
@@ -225,6 +233,10 @@ fn build_site(ctx: &Ctx<'_>, s: &SiteFile) -> Result<Geodetic, ConfigError> {
         ));
     }
     let h = ctx.finite("site.height_m", s.height_m)?;
+    if !plausible::height_ok(h) {
+        let msg = format!("{h} m is {}", plausible::height_range_text());
+        return Err(ctx.invalid("site.height_m", msg));
+    }
     Ok(Geodetic::from_deg(lat, lon, h))
 }
 
@@ -252,6 +264,7 @@ fn build_noise(ctx: &Ctx<'_>, n: &NoiseFile) -> Result<NoiseModel, ConfigError> 
         }
         Ok(v)
     };
+    check_noise_limits(ctx, n)?;
     let gyro_bi = ctx.non_negative(
         &k("gyro_bias_instability_deg_per_h"),
         n.gyro_bias_instability_deg_per_h,
@@ -280,4 +293,25 @@ fn build_noise(ctx: &Ctx<'_>, n: &NoiseFile) -> Result<NoiseModel, ConfigError> 
             accel_bi,
         )?,
     })
+}
+
+/// Refuses noise values beyond [`plausible::NOISE_LIMITS`] and
+/// [`plausible::MAX_THERMOMETER_NOISE_DEGC`].
+fn check_noise_limits(ctx: &Ctx<'_>, n: &NoiseFile) -> Result<(), ConfigError> {
+    let values = [
+        n.gyro_arw_deg_per_sqrt_h,
+        n.gyro_bias_instability_deg_per_h,
+        n.gyro_quantum_arcsec,
+        n.accel_vrw_ug_per_sqrt_hz,
+        n.accel_bias_instability_ug,
+    ];
+    for ((name, limit, plausible), v) in plausible::NOISE_LIMITS.iter().zip(values) {
+        if v.abs() > *limit {
+            let msg = format!(
+                "{v} is beyond the plausibility limit {limit} (10x the largest plausible, {plausible})"
+            );
+            return Err(ctx.invalid(&format!("imu.noise.{name}"), msg));
+        }
+    }
+    Ok(())
 }

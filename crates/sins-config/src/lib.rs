@@ -30,6 +30,7 @@ pub mod files;
 mod motion;
 mod params;
 mod params_write;
+pub mod plausible;
 mod thermal;
 mod toml_util;
 pub mod units;

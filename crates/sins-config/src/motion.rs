@@ -3,6 +3,7 @@
 use crate::csv::{VibrationPattern, parse_patterns, parse_scheme};
 use crate::ctx::{Ctx, Deferred};
 use crate::error::ConfigError;
+use crate::plausible::{GYRO_FULL_SCALE_DEG_PER_S, MAX_MOTION_SEGMENTS, MAX_RUN_DURATION_S};
 use serde::Deserialize;
 use sins_nav::{DEG, Euler, Vec3, ned_from_body_euler};
 use sins_sim::scenario::{MotionProgram, MotionSegment};
@@ -119,11 +120,20 @@ pub(crate) fn build_motion(ctx: &Ctx<'_>, raw: &MotionFile) -> Result<MotionProg
                         "the rotation angle must be non-zero",
                     ));
                 }
+                let rate_key = format!("{p}.rate_deg_per_s");
+                let rate = table_rate(ctx, &rate_key, *rate_deg_per_s)?;
+                let duration_s = angle.abs() / rate;
+                if duration_s > MAX_RUN_DURATION_S {
+                    let msg = format!(
+                        "{angle} deg at {rate} deg/s takes {duration_s} s, longer than the \
+                         {MAX_RUN_DURATION_S} s (366 days) a run may last"
+                    );
+                    return Err(ctx.invalid(&format!("{p}.angle_deg"), msg));
+                }
                 segments.push(MotionSegment::Rotate {
                     axis_body: v.normalize(),
                     angle_rad: angle * DEG,
-                    rate_radps: ctx.positive(&format!("{p}.rate_deg_per_s"), *rate_deg_per_s)?
-                        * DEG,
+                    rate_radps: rate * DEG,
                     label: label(ctx, &format!("{p}.label"), l, "rotate".into())?,
                 });
             }
@@ -135,7 +145,7 @@ pub(crate) fn build_motion(ctx: &Ctx<'_>, raw: &MotionFile) -> Result<MotionProg
                 repeat,
                 label: l,
             } => {
-                let rate = ctx.positive(&format!("{p}.rate_deg_per_s"), *rate_deg_per_s)? * DEG;
+                let rate = table_rate(ctx, &format!("{p}.rate_deg_per_s"), *rate_deg_per_s)? * DEG;
                 let repeat = repeat.unwrap_or(1);
                 if repeat == 0 {
                     return Err(ctx.invalid(&format!("{p}.repeat"), "must be at least 1"));
@@ -165,6 +175,23 @@ pub(crate) fn build_motion(ctx: &Ctx<'_>, raw: &MotionFile) -> Result<MotionProg
                     }
                 };
                 let l = label(ctx, &format!("{p}.label"), l, "scheme".into())?;
+                let expanded = 2.0 * n;
+                let scheme_s = rotating_s + n * dwell;
+                if segments.len() as f64 + expanded > MAX_MOTION_SEGMENTS as f64 {
+                    let msg = format!(
+                        "{} steps x {repeat} repeats expand to {expanded} segments, more than \
+                         the {MAX_MOTION_SEGMENTS} a motion program may have",
+                        steps.len()
+                    );
+                    return Err(ctx.invalid(&format!("{p}.repeat"), msg));
+                }
+                if scheme_s > MAX_RUN_DURATION_S {
+                    let msg = format!(
+                        "the scheme lasts {scheme_s} s, longer than the {MAX_RUN_DURATION_S} s \
+                         (366 days) a run may last"
+                    );
+                    return Err(ctx.invalid(&p, msg));
+                }
                 for _ in 0..repeat {
                     for s in &steps {
                         segments.push(MotionSegment::Rotate {
@@ -217,6 +244,21 @@ pub(crate) fn build_motion(ctx: &Ctx<'_>, raw: &MotionFile) -> Result<MotionProg
                 for k in 0..3 {
                     ctx.non_negative(&format!("{p}.amplitude_deg[{k}]"), amplitude[k])?;
                     ctx.positive(&format!("{p}.period_s[{k}]"), period[k])?;
+                    // Peak rate of a sinusoid of amplitude A and period T: 2 pi A / T.
+                    let peak = std::f64::consts::TAU * amplitude[k] / period[k];
+                    if peak > GYRO_FULL_SCALE_DEG_PER_S {
+                        let key = match pattern {
+                            Some(_) => format!("{p}.pattern"),
+                            None => format!("{p}.amplitude_deg[{k}]"),
+                        };
+                        let msg = format!(
+                            "axis {k}: {} deg every {} s peaks at {peak:.0} deg/s, beyond the \
+                             {GYRO_FULL_SCALE_DEG_PER_S} deg/s full scale of a navigation-grade \
+                             gyro (the dataset would be refused when read)",
+                            amplitude[k], period[k]
+                        );
+                        return Err(ctx.invalid(&key, msg));
+                    }
                 }
                 let phase =
                     ctx.finite3(&format!("{p}.phase_deg"), phase_deg.unwrap_or([0.0; 3]))?;
@@ -230,10 +272,42 @@ pub(crate) fn build_motion(ctx: &Ctx<'_>, raw: &MotionFile) -> Result<MotionProg
             }
         }
     }
-    Ok(MotionProgram {
+    if segments.len() > MAX_MOTION_SEGMENTS {
+        let msg = format!(
+            "the program has {} segments, more than the {MAX_MOTION_SEGMENTS} it may have",
+            segments.len()
+        );
+        return Err(ctx.invalid("motion.segment", msg));
+    }
+    let program = MotionProgram {
         initial_ned_from_body: ned_from_body_euler(&Euler::from_deg(a.pitch, a.roll, a.yaw)),
         segments,
-    })
+    };
+    let total_s = motion_duration_s(&program);
+    if total_s > MAX_RUN_DURATION_S {
+        let msg = format!(
+            "the motion program lasts {total_s} s ({:.0} days), longer than the \
+             {MAX_RUN_DURATION_S} s (366 days) a run may last",
+            total_s / 86_400.0
+        );
+        return Err(ctx.invalid("motion.segment", msg));
+    }
+    Ok(program)
+}
+
+/// A turntable rate (deg/s): positive, finite and within the gyro full scale
+/// [`GYRO_FULL_SCALE_DEG_PER_S`] (a faster table would saturate a navigation-grade gyro, and the
+/// dataset would be refused when read).
+fn table_rate(ctx: &Ctx<'_>, key: &str, rate_deg_per_s: f64) -> Result<f64, ConfigError> {
+    let rate = ctx.positive(key, rate_deg_per_s)?;
+    if rate > GYRO_FULL_SCALE_DEG_PER_S {
+        let msg = format!(
+            "{rate} deg/s is beyond the {GYRO_FULL_SCALE_DEG_PER_S} deg/s full scale of a \
+             navigation-grade gyro (the dataset would be refused when read)"
+        );
+        return Err(ctx.invalid(key, msg));
+    }
+    Ok(rate)
 }
 
 fn load_patterns(

@@ -6,6 +6,7 @@
 use crate::coefficients::{Section, section_defs};
 use crate::error::{ConfigError, line_of};
 use crate::exact::{ExactFactor, decimal_to_si};
+use crate::plausible;
 use crate::toml_util;
 use serde::Deserialize;
 use serde::de::DeserializeOwned;
@@ -182,6 +183,21 @@ impl Reader<'_> {
                 note: format!("coefficient {} in {}", d.name, d.unit.label()),
             })?;
             let v = self.number(&key, n, d.unit.factor())?;
+            let in_unit = d.unit.from_si(v);
+            let limit = plausible::coefficient_limit(d.unit);
+            if in_unit.abs() > limit {
+                let unit = d.unit.label();
+                return Err(self.invalid(
+                    &key,
+                    n.line(self.src),
+                    format!(
+                        "{in_unit} {unit} is beyond the plausibility limit of {limit} {unit} \
+                         ({}x the largest physically plausible {} {unit}; check the unit)",
+                        plausible::COEFFICIENT_LIMIT_FACTOR,
+                        plausible::largest_plausible(d.unit)
+                    ),
+                ));
+            }
             if non_negative && v < 0.0 {
                 return Err(self.invalid(
                     &key,
@@ -238,8 +254,13 @@ impl Reader<'_> {
         };
         let mut params = ImuErrorParams::ideal(model);
         if let Some(t) = &raw.reference_temperature_degc {
-            params.reference_temperature_degc =
-                self.number("reference_temperature_degc", t, ExactFactor::ONE)?;
+            let key = "reference_temperature_degc";
+            let t_degc = self.number(key, t, ExactFactor::ONE)?;
+            if !plausible::temperature_ok(t_degc) {
+                let msg = format!("{t_degc} degC is {}", plausible::temperature_range_text());
+                return Err(self.invalid(key, t.line(self.src), msg));
+            }
+            params.reference_temperature_degc = t_degc;
         }
         let tables = Tables {
             gyro: &raw.gyro,

@@ -86,7 +86,8 @@ impl Rng {
 
 fn random_params(rng: &mut Rng, model: ParamModel) -> ImuErrorParams {
     let mut p = ImuErrorParams::ideal(model);
-    p.reference_temperature_degc = rng.value(20.0);
+    // Within the plausible -60..125 degC (magnitudes 5e-5..50 degC).
+    p.reference_temperature_degc = rng.value(0.05);
     for i in 0..3 {
         p.gyro.bias_radps[i] = rng.value(1e-8);
         p.gyro.scale[i] = rng.value(1e-5);

@@ -17,7 +17,7 @@ use crate::meta::{DatasetMeta, KEY_PREFIX};
 use crate::pq_batch::reuse;
 use crate::pq_read::MAX_BATCH_ROWS;
 use crate::schema::{DatasetFormat, DatasetInfo, MAX_SEGMENT_LABELS, ReferenceRow, SampleBatch};
-use crate::validate::{TimeCheck, non_finite};
+use crate::validate::{ColumnLimit, TimeCheck, check_meta, column_limits, implausible, non_finite};
 
 /// Line source with 1-based line numbers and UTF-8 checking.
 struct Lines {
@@ -107,6 +107,8 @@ struct RowParser {
     float_names: Vec<&'static str>,
     n_fields: usize,
     time: TimeCheck,
+    /// Plausibility range of each Float64 column (same order as `float_names`).
+    limits: Vec<Option<ColumnLimit>>,
     values: Vec<f64>,
 }
 
@@ -153,6 +155,11 @@ impl RowParser {
             if !x.is_finite() {
                 return Err(non_finite(&self.path, at, name, x));
             }
+            if let Some(Some(limit)) = self.limits.get(k)
+                && !(limit.lo..=limit.hi).contains(&x)
+            {
+                return Err(implausible(&self.path, at, name, x, limit));
+            }
             self.values.push(x);
         }
         self.time.check(&self.path, at, self.values[0])?;
@@ -182,8 +189,10 @@ pub(crate) fn open_csv(path: &Path, mut f: File) -> Result<(DatasetInfo, CsvSour
         .map_err(|e| DataError::io(path, "opening", e))?;
     let mut lines = Lines::new(path, f);
     let (meta, layout, header_lines) = read_preamble(path, &mut lines)?;
+    check_meta(path, &meta)?;
     let new_parser = |layout: Layout| RowParser {
         path: path.to_path_buf(),
+        limits: column_limits(&layout.columns.float_columns(), meta.sample_rate_hz),
         float_names: layout.columns.float_columns(),
         n_fields: layout.float_pos.len()
             + usize::from(layout.segment_pos.is_some())

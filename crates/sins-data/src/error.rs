@@ -188,6 +188,25 @@ pub enum DataError {
         /// The offending value.
         value: f64,
     },
+    /// A value lies outside what a real IMU on the Earth can produce (an increment beyond the
+    /// full scale of a navigation-grade sensor over one sample, a temperature outside
+    /// -60..125 degC, a position off the Earth).
+    #[error(
+        "{}: {at}, column '{column}': value {value} is implausible ({why})",
+        file.display()
+    )]
+    Implausible {
+        /// The file.
+        file: PathBuf,
+        /// Where.
+        at: RowRef,
+        /// The column.
+        column: String,
+        /// The offending value (column unit).
+        value: f64,
+        /// The accepted range and why it is what it is.
+        why: String,
+    },
     /// `t_s` does not strictly increase.
     #[error(
         "{}: {at}: t_s = {t_s} s is not after the previous row's t_s = {prev_t_s} s (t_s must strictly increase)",
@@ -298,6 +317,7 @@ impl DataError {
             | Self::UnsupportedSchemaVersion { file, .. }
             | Self::BadValue { file, .. }
             | Self::NonFinite { file, .. }
+            | Self::Implausible { file, .. }
             | Self::TimeNotIncreasing { file, .. }
             | Self::TimeGap { file, .. }
             | Self::SampleRateMismatch { file, .. }

@@ -162,3 +162,164 @@ pub(crate) fn non_finite(file: &Path, at: RowRef, column: &str, value: f64) -> D
         value,
     }
 }
+
+/// Gyro full-scale range (rad/s) behind the angular-increment limit: ±1000 deg/s, the range of
+/// tactical and navigation IMUs such as the HG1700 and LN-200 class (the same figure as
+/// `sins_config::plausible::GYRO_FULL_SCALE_DEG_PER_S`). A saturated gyro cannot integrate more
+/// than this rate over one sample interval.
+pub const GYRO_FULL_SCALE_RADPS: f64 = 1000.0 * std::f64::consts::PI / 180.0;
+
+/// Accelerometer full-scale range (m/s^2) behind the velocity-increment limit: ±60 g, the input
+/// range of the quartz flexure accelerometers (QA-2000 class) of navigation-grade IMUs (the
+/// same figure as `sins_config::plausible::ACCEL_FULL_SCALE_G`).
+pub const ACCEL_FULL_SCALE_MPS2: f64 = 60.0 * 9.806_65;
+
+/// Accepted sensor temperatures (degC): the extended military range with margin below
+/// (-60 degC) and the maximum junction temperature of the electronics above (125 degC).
+pub const TEMPERATURE_RANGE_DEGC: (f64, f64) = (-60.0, 125.0);
+
+/// Accepted heights above the ellipsoid (m): from below the deepest ocean floor (-12 km) to the
+/// edge of space (100 km), as `sins_config::plausible::{MIN_HEIGHT_M, MAX_HEIGHT_M}`.
+pub const HEIGHT_RANGE_M: (f64, f64) = (-12_000.0, 100_000.0);
+
+/// Highest accepted `sinsbench.sample_rate_hz` (Hz): five times the fastest navigation-grade IMU
+/// output (2 kHz), as `sins_config::plausible::MAX_SAMPLE_RATE_HZ`.
+pub const MAX_SAMPLE_RATE_HZ: f64 = 10_000.0;
+
+/// The accepted range of one Float64 column and why, for error messages.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ColumnLimit {
+    /// Lowest accepted value (column unit).
+    pub lo: f64,
+    /// Highest accepted value (column unit).
+    pub hi: f64,
+    /// What the range stands for.
+    pub why: String,
+}
+
+/// The plausibility range of column `name` in a dataset sampled at `rate_hz` (`None` for
+/// columns without one: `t_s`, reference velocities and attitude). Increments are limited to
+/// the full-scale rate times one sample interval, with the 1 % timing tolerance of the `t_s`
+/// check on top.
+pub(crate) fn column_limit(name: &str, rate_hz: f64) -> Option<ColumnLimit> {
+    let dt_s = (1.0 + STEP_TOLERANCE_FRACTION) / rate_hz;
+    let sym = |x: f64, why: String| Some(ColumnLimit { lo: -x, hi: x, why });
+    let range = |(lo, hi): (f64, f64), why: String| Some(ColumnLimit { lo, hi, why });
+    match name {
+        "dtheta_x_rad" | "dtheta_y_rad" | "dtheta_z_rad" => sym(
+            GYRO_FULL_SCALE_RADPS * dt_s,
+            format!(
+                "a navigation-grade gyro saturates at 1000 deg/s, i.e. {:.4} rad per sample at \
+                 {rate_hz} Hz",
+                GYRO_FULL_SCALE_RADPS * dt_s
+            ),
+        ),
+        "dv_x_mps" | "dv_y_mps" | "dv_z_mps" => sym(
+            ACCEL_FULL_SCALE_MPS2 * dt_s,
+            format!(
+                "a navigation-grade accelerometer saturates at 60 g, i.e. {:.4} m/s per sample \
+                 at {rate_hz} Hz",
+                ACCEL_FULL_SCALE_MPS2 * dt_s
+            ),
+        ),
+        "temp_ax_degc" | "temp_ay_degc" | "temp_az_degc" => range(
+            TEMPERATURE_RANGE_DEGC,
+            "an IMU works between -60 and 125 degC".to_string(),
+        ),
+        "ref_lat_rad" => sym(
+            std::f64::consts::FRAC_PI_2,
+            "a latitude lies within ±pi/2 rad (±90 deg)".to_string(),
+        ),
+        "ref_lon_rad" => sym(
+            2.0 * std::f64::consts::PI,
+            "a longitude lies within ±2 pi rad (±360 deg, as the metadata site)".to_string(),
+        ),
+        "ref_height_m" => range(
+            HEIGHT_RANGE_M,
+            "a height on the Earth lies between -12 km (below the deepest ocean floor) and \
+             100 km (the edge of space)"
+                .to_string(),
+        ),
+        _ => None,
+    }
+}
+
+/// Limits of the Float64 columns `names` (in file order) at `rate_hz`.
+pub(crate) fn column_limits(names: &[&str], rate_hz: f64) -> Vec<Option<ColumnLimit>> {
+    names.iter().map(|n| column_limit(n, rate_hz)).collect()
+}
+
+/// Error for a value outside its column's plausibility range.
+pub(crate) fn implausible(
+    file: &Path,
+    at: RowRef,
+    column: &str,
+    value: f64,
+    limit: &ColumnLimit,
+) -> DataError {
+    DataError::Implausible {
+        file: file.to_path_buf(),
+        at,
+        column: column.to_string(),
+        value,
+        why: format!(
+            "accepted {}..{}: {}",
+            short_number(limit.lo),
+            short_number(limit.hi),
+            limit.why
+        ),
+    }
+}
+
+/// Index of the first value of `values` outside `lo..=hi` (finite values assumed), if any:
+/// a branch-free pass per chunk for the all-good case.
+#[inline]
+pub(crate) fn first_outside(values: &[f64], lo: f64, hi: f64) -> Option<usize> {
+    const CHUNK: usize = 256;
+    for (ci, chunk) in values.chunks(CHUNK).enumerate() {
+        if !chunk.iter().fold(true, |ok, &x| ok & (x >= lo) & (x <= hi)) {
+            let i = chunk
+                .iter()
+                .position(|&x| !(lo..=hi).contains(&x))
+                .unwrap_or(0);
+            return Some(ci * CHUNK + i);
+        }
+    }
+    None
+}
+
+/// Check the metadata against the plausibility limits: sample rate at most
+/// [`MAX_SAMPLE_RATE_HZ`], site height within [`HEIGHT_RANGE_M`].
+pub(crate) fn check_meta(file: &Path, meta: &crate::DatasetMeta) -> Result<(), DataError> {
+    let rate = meta.sample_rate_hz;
+    if rate > MAX_SAMPLE_RATE_HZ {
+        return Err(DataError::InvalidMetadata {
+            file: file.to_path_buf(),
+            key: crate::KEY_SAMPLE_RATE_HZ.to_string(),
+            value: rate.to_string(),
+            reason: format!(
+                "above the {MAX_SAMPLE_RATE_HZ} Hz maximum (navigation-grade IMUs deliver \
+                 100 Hz to 2 kHz)"
+            ),
+        });
+    }
+    let h = meta.site.height_m;
+    if !(HEIGHT_RANGE_M.0..=HEIGHT_RANGE_M.1).contains(&h) {
+        return Err(DataError::InvalidMetadata {
+            file: file.to_path_buf(),
+            key: crate::KEY_SITE_HEIGHT_M.to_string(),
+            value: h.to_string(),
+            reason: "not a height on the Earth (accepted: -12000 m, below the deepest ocean \
+                     floor, to 100000 m, the edge of space)"
+                .to_string(),
+        });
+    }
+    Ok(())
+}
+
+/// `x` with at most 6 significant digits, shortest form (0.0881391272 -> 0.0881391).
+fn short_number(x: f64) -> String {
+    format!("{x:.5e}")
+        .parse::<f64>()
+        .map_or_else(|_| x.to_string(), |r| r.to_string())
+}

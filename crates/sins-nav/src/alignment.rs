@@ -64,17 +64,36 @@ pub struct AlignmentResult {
 /// Errors of the alignment stage.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum AlignmentError {
-    /// Fewer samples than the configured alignment time.
-    #[error("alignment needs {needed_s:.1} s of data but only {got_s:.1} s were given")]
+    /// The data ended before the configured alignment time was complete (times rounded to a
+    /// microsecond, so that one missing sample shows).
+    #[error("alignment needs {needed_s} s of data but the data end after {got_s} s")]
     TooShort {
         /// Required (s).
         needed_s: f64,
         /// Received (s).
         got_s: f64,
     },
+    /// The alignment time is shorter than its coarse (analytic) stage, so the alignment could
+    /// never complete: the total time must cover the coarse stage.
+    #[error(
+        "an alignment time of {duration_s} s is shorter than the {coarse_s} s of coarse alignment \
+         it starts with; use an alignment time of at least {coarse_s} s"
+    )]
+    ShorterThanCoarse {
+        /// Configured total alignment time (s).
+        duration_s: f64,
+        /// Coarse stage (s), rounded to whole samples and coning updates.
+        coarse_s: f64,
+    },
     /// The averaged specific force or Earth rate cannot define an attitude.
     #[error("coarse alignment failed: {0}")]
     Degenerate(&'static str),
+}
+
+/// `x` rounded to a millionth (for messages: 12000 samples of 0.005 s are 60 s, not
+/// 60.00000000000001 s).
+fn micro_round(x: f64) -> f64 {
+    (x * 1e6).round() / 1e6
 }
 
 /// Analytic (TRIAD) attitude from mean specific force `f_body_mps2` and mean angular rate
@@ -165,8 +184,17 @@ impl SelfAlignment {
         self.n_total
     }
 
-    /// Add one compensated sample; returns true once the alignment time is complete.
+    /// Add one compensated sample; returns true once the alignment time is complete. Fails with
+    /// [`AlignmentError::ShorterThanCoarse`] at the first sample when the alignment time does
+    /// not cover the coarse stage (it could never complete).
     pub fn push(&mut self, inc: &Increment) -> Result<bool, AlignmentError> {
+        if self.n_total < self.n_coarse {
+            let h = self.nav_config.sample_interval_s;
+            return Err(AlignmentError::ShorterThanCoarse {
+                duration_s: self.config.duration_s,
+                coarse_s: micro_round(self.n_coarse as f64 * h),
+            });
+        }
         if self.n_seen >= self.n_total {
             return Ok(true);
         }
@@ -231,9 +259,15 @@ impl SelfAlignment {
         let (Some(coarse), Some(fine), true) =
             (self.coarse, self.fine.as_ref(), self.n_seen >= self.n_total)
         else {
+            if self.n_total < self.n_coarse {
+                return Err(AlignmentError::ShorterThanCoarse {
+                    duration_s: self.config.duration_s,
+                    coarse_s: micro_round(self.n_coarse as f64 * h),
+                });
+            }
             return Err(AlignmentError::TooShort {
-                needed_s: self.n_total as f64 * h,
-                got_s: self.n_seen as f64 * h,
+                needed_s: micro_round(self.n_total as f64 * h),
+                got_s: micro_round(self.n_seen as f64 * h),
             });
         };
         let mut state = *fine.nav.state();

@@ -29,7 +29,10 @@ pub use output::{
     OUTPUT_MARKER, ReportFiles, check_output_dir, write_bytes, write_dir_atomically, write_report,
 };
 pub use run::{Progress, ReportRun, ResolvedSet, run_report};
-pub use simulate::{dataset_meta, simulate_to_dataset, simulate_to_dataset_with};
+pub use simulate::{
+    check_output_space, dataset_meta, estimated_dataset_bytes, human_bytes, simulate_to_dataset,
+    simulate_to_dataset_with,
+};
 pub use uq_config::{
     UqStudy, load_base, load_table2, load_uq_study, paper_cells, table2_indices, unit_si,
 };

@@ -114,6 +114,14 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
 
 /// Replay a dataset; returns its info, the 1 Hz error track and the summary.
 pub fn replay(args: &Args, quiet: bool) -> Result<(DatasetInfo, Vec<ErrorPoint>, ReplaySummary)> {
+    let coarse_s = sins_nav::AlignmentConfig::default().coarse_duration_s;
+    if matches!(args.start, StartMode::Align) && args.align_s < coarse_s {
+        anyhow::bail!(
+            "--align-s {}: the self-alignment starts with {coarse_s} s of coarse alignment, so it \
+             needs at least {coarse_s} s (give --align-s {coarse_s} or more, or --start truth)",
+            args.align_s
+        );
+    }
     let info = DatasetReader::open(&args.dataset)?.info().clone();
     let params = match &args.params {
         Some(p) => sins_config::load_params(p)?.params,

@@ -33,6 +33,29 @@ pub struct Args {
     /// `diagnose`; keys and units in experiments/README.md).
     #[arg(long, value_name = "FILE")]
     pub effects: Option<PathBuf>,
+    /// Refuse, before writing anything, when the datasets are estimated at more than this many
+    /// GB (decimal). Default: the SINSBENCH_MAX_OUTPUT_GB environment variable when set,
+    /// otherwise no limit beyond the free space of the output file system (always checked).
+    #[arg(long, value_name = "GB", value_parser = crate::argcheck::positive_f64)]
+    pub max_output_gb: Option<f64>,
+}
+
+/// Environment variable that sets the default of `simulate --max-output-gb` (GB, decimal).
+pub const MAX_OUTPUT_ENV: &str = "SINSBENCH_MAX_OUTPUT_GB";
+
+/// The output limit in bytes: `--max-output-gb`, else [`MAX_OUTPUT_ENV`], else none.
+fn output_limit_bytes(args: &Args) -> Result<Option<u64>> {
+    let gb = match args.max_output_gb {
+        Some(gb) => Some(gb),
+        None => match std::env::var(MAX_OUTPUT_ENV) {
+            Ok(text) => Some(crate::argcheck::positive_f64(&text).map_err(|e| {
+                anyhow::anyhow!("environment variable {MAX_OUTPUT_ENV}={text:?}: {e}")
+            })?),
+            Err(_) => None,
+        },
+    };
+    // f64 -> u64 saturates, so an enormous limit is simply no limit.
+    Ok(gb.map(|gb| (gb * 1e9) as u64))
 }
 
 /// Dataset file format.
@@ -78,6 +101,19 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(&experiment.name));
+    let selected = experiment
+        .scenarios
+        .iter()
+        .filter(|s| args.runs.is_empty() || args.runs.contains(&s.name));
+    let needed: u64 = selected
+        .map(|s| {
+            let n_rows = (sins_config::motion_duration_s(&s.motion) * s.rate_hz).round() as u64;
+            let reference = s.with_reference || args.reference;
+            let csv = matches!(args.format, Format::Csv);
+            sins_report::estimated_dataset_bytes(n_rows, reference, csv)
+        })
+        .fold(0u64, u64::saturating_add);
+    sins_report::check_output_space(&out, needed, output_limit_bytes(&args)?)?;
     std::fs::create_dir_all(&out)
         .with_context(|| format!("cannot create output directory {}", out.display()))?;
     for name in &args.runs {

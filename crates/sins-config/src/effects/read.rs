@@ -5,6 +5,7 @@ use super::schema::{Aux, magnitude_factor, schema, set_aux};
 use crate::ctx::Ctx;
 use crate::error::ConfigError;
 use crate::exact::{ExactFactor, decimal_to_si};
+use crate::plausible;
 use crate::toml_util;
 use sins_imu::{EffectKind, EffectSpec};
 use toml::Spanned;
@@ -108,8 +109,11 @@ impl Reader<'_, '_> {
         }
         let x = self.number(key, v, aux.factor(), aux == Aux::CorrelationS)?;
         let bad = match aux {
-            Aux::CorrelationS if x <= 0.0 => Some("must be > 0 (or inf for a random walk)"),
-            Aux::PeriodS if x <= 0.0 => Some("must be > 0"),
+            Aux::CorrelationS if x <= 0.0 => Some("must be > 0 (or inf for a random walk)".into()),
+            Aux::PeriodS if x <= 0.0 => Some("must be > 0".into()),
+            Aux::ReferenceDegc if !plausible::temperature_ok(x) => {
+                Some(format!("is {}", plausible::temperature_range_text()))
+            }
             _ => None,
         };
         match bad {
@@ -169,6 +173,20 @@ impl Reader<'_, '_> {
                     return Err(self.ctx.missing(&path, note));
                 }
             };
+            let limit = plausible::effect_limit(kind);
+            for (i, x) in value.iter().enumerate() {
+                let in_unit = x / unit.si;
+                if in_unit.abs() > limit {
+                    let msg = format!(
+                        "{in_unit} {u} is beyond the plausibility limit of {limit} {u} ({}x the \
+                         largest physically plausible {} {u}; check the unit)",
+                        plausible::COEFFICIENT_LIMIT_FACTOR,
+                        plausible::effect_largest_plausible(kind),
+                        u = unit.label
+                    );
+                    return Err(self.ctx.invalid(&format!("{path}[{i}]"), msg));
+                }
+            }
             mags.extend_from_slice(&value);
         }
         let mut spec = EffectSpec::zero(kind)
