@@ -144,7 +144,7 @@ fn check_replaceable(
         let file_name = entry.file_name().to_string_lossy().into_owned();
         let is_file = entry.file_type().is_ok_and(|t| t.is_file());
         let ours = match written {
-            Some(files) => files.iter().any(|f| *f == file_name),
+            Some(files) => files.contains(&file_name),
             None => !file_name.starts_with('.'),
         };
         if !is_file || !ours {

@@ -415,7 +415,7 @@ pub fn load_base(config_path: &Path) -> Result<ReplicaBase, ReportError> {
         calibration,
         navigation,
         reference_temperature_degc: cal.reference_temperature_degc,
-        replay: config.replay.clone(),
+        replay: config.replay,
     })
 }
 

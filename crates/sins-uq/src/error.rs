@@ -18,9 +18,9 @@ pub enum UqError {
         candidate: String,
         /// Sample index.
         sample: usize,
-        /// The harness error.
+        /// The harness error (boxed: it is large and rare).
         #[source]
-        source: sins_harness::HarnessError,
+        source: Box<sins_harness::HarnessError>,
     },
     /// Too few samples for a statistic.
     #[error("{what}: needs at least {needed} samples, got {got}")]

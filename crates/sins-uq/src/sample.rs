@@ -120,7 +120,7 @@ pub fn run_job(
     let fail = |source| UqError::Pipeline {
         candidate: study.clone(),
         sample: index,
-        source,
+        source: Box::new(source),
     };
     let (p30, p42) = calibrate(base, &scenarios, progress).map_err(fail)?;
     let sets = [
@@ -133,7 +133,7 @@ pub fn run_job(
             params: p42,
         },
     ];
-    let mut replay = base.replay.clone();
+    let mut replay = base.replay;
     replay.reconstruct.threads = 1;
     let mut max_horizontal_m = Vec::with_capacity(scenarios.navigation.len());
     for sc in &scenarios.navigation {

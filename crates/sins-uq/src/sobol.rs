@@ -73,7 +73,7 @@ fn estimate(fa: &[f64], fb: &[f64], fab: &[f64], rows: &[usize]) -> (f64, f64) {
     let all: Vec<f64> = rows.iter().flat_map(|&j| [fa[j], fb[j]]).collect();
     let mean = all.iter().sum::<f64>() / all.len() as f64;
     let v = all.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (all.len() as f64 - 1.0);
-    if !(v > 0.0) {
+    if v.is_nan() || v <= 0.0 {
         return (0.0, 0.0);
     }
     let s = rows.iter().map(|&j| fb[j] * (fab[j] - fa[j])).sum::<f64>() / n / v;

@@ -181,7 +181,7 @@ pub fn benjamini_hochberg(p: &[f64], q: f64) -> Vec<bool> {
         .enumerate()
         .filter(|(k, i)| p[**i] <= (k + 1) as f64 * q / m as f64)
         .map(|(_, i)| p[*i])
-        .last();
+        .next_back();
     p.iter().map(|v| cut.is_some_and(|c| *v <= c)).collect()
 }
 

@@ -69,7 +69,8 @@ fn report_refuses_what_is_not_its_own_output() {
     let reports = dir.path().join("reports");
     std::fs::create_dir_all(&reports).unwrap();
     let target = reports.join("mine");
-    let cases: [(&str, &dyn Fn(&Path), &str); 4] = [
+    type Case<'a> = (&'a str, &'a dyn Fn(&Path), &'a str);
+    let cases: [Case; 4] = [
         (
             "file",
             &|t| std::fs::write(t, "my thesis").unwrap(),
