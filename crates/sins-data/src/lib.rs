@@ -44,6 +44,7 @@ mod layout;
 mod meta;
 mod pq_batch;
 mod pq_decode;
+mod pq_footer;
 mod pq_read;
 mod pq_write;
 mod reader;

@@ -62,6 +62,7 @@ pub(crate) fn open_parquet(
         .metadata()
         .map_err(|e| DataError::io(path, "reading the file size", e))?
         .len();
+    crate::pq_footer::check_footer(path, &mut f, file_len)?;
     let metadata = no_panic(path, || {
         read_metadata(&mut f).map_err(|e| DataError::corrupt(path, e))
     })?;
