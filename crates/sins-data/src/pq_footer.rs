@@ -109,7 +109,7 @@ impl Reader<'_> {
             return Err("footer nests values too deeply".into());
         }
         match ty {
-            1 | 2 | 3 => {
+            1..=3 => {
                 self.byte()?; // bool (in a list) or byte
             }
             4..=6 => {
