@@ -11,8 +11,8 @@
 //! [`check_parquet_footer`] on the file before `read_metadata` (sins-data's `open_parquet`); until
 //! then the `dataset_parquet` target skips inputs it rejects, so that fuzzing goes on past it.
 
-/// `Err(reason)` when the footer of the Parquet file `bytes` (or of a file whose last
-/// `bytes.len()` bytes these are, footer included) declares a length beyond its own size.
+/// `Err(reason)` when the footer of the Parquet file `file` (or of a file whose last
+/// `file.len()` bytes these are, footer included) declares a length beyond its own size.
 pub fn check_parquet_footer(file: &[u8]) -> Result<(), String> {
     let n = file.len();
     if n < 12 || &file[n - 4..] != b"PAR1" {
