@@ -8,12 +8,6 @@ use sinsbench_fuzz::{guard, render, write_input};
 
 fuzz_target!(|data: &[u8]| {
     guard(|| {
-        // Known finding, fix pending in sins-data (see fuzz/src/footer_guard.rs): a footer that
-        // declares a list longer than itself aborts the process inside polars-parquet. Skipped
-        // here so that the fuzzer goes on past it; remove once open_parquet checks the footer.
-        if sinsbench_fuzz::footer_guard::check_parquet_footer(data).is_err() {
-            return;
-        }
         let path = write_input("input.parquet", data);
         read(&path);
     })

@@ -1,8 +1,6 @@
 //! Helpers shared by the fuzz targets: the readers under test take paths, so each input is
 //! written to a per-process scratch file first.
 
-pub mod footer_guard;
-
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
