@@ -38,8 +38,37 @@ pub(crate) fn check_footer<F: Read + Seek>(
         buf: &footer,
         pos: 0,
     };
-    r.skip_struct(0)
+    r.walk_struct(Known::FileMetaData, 0)
         .map_err(|reason| DataError::corrupt(path, reason))
+}
+
+/// The footer structs on polars' path to a list (parquet.thrift).
+#[derive(Clone, Copy, Debug)]
+enum Known {
+    FileMetaData,
+    RowGroup,
+    ColumnChunk,
+    ColumnMetaData,
+    Other,
+}
+
+impl Known {
+    /// The Thrift type of field `id` (9 list, 12 struct, 5 i32, 8 binary), the element type of a
+    /// list, and the kind of struct inside.
+    fn field(self, id: i64) -> Option<(u8, u8, Known)> {
+        use Known::*;
+        Some(match (self, id) {
+            (FileMetaData, 2 | 5 | 7) => (9, 12, Other),
+            (FileMetaData, 4) => (9, 12, RowGroup),
+            (RowGroup, 1) => (9, 12, ColumnChunk),
+            (RowGroup, 4) => (9, 12, Other),
+            (ColumnChunk, 3) => (12, 0, ColumnMetaData),
+            (ColumnMetaData, 2) => (9, 5, Other),
+            (ColumnMetaData, 3) => (9, 8, Other),
+            (ColumnMetaData, 8 | 13) => (9, 12, Other),
+            _ => return None,
+        })
+    }
 }
 
 struct Reader<'a> {
@@ -85,23 +114,78 @@ impl Reader<'_> {
     }
 
     fn skip_struct(&mut self, depth: u32) -> Result<(), String> {
+        self.walk_struct(Known::Other, depth)
+    }
+
+    /// Walks a struct; in the structs on polars' path to a list (`kind`), a field must carry
+    /// the type parquet.thrift gives its id, since polars reads by id and ignores the declared
+    /// type (a struct declared where it reads a list let a 2^31-element list header through).
+    fn walk_struct(&mut self, kind: Known, depth: u32) -> Result<(), String> {
         if depth > MAX_DEPTH {
             return Err("footer nests structs too deeply".into());
         }
+        let mut id: i64 = 0;
         loop {
             let h = self.byte()?;
             let ty = h & 0x0f;
             if ty == 0 {
                 return Ok(());
             }
-            if h >> 4 == 0 {
-                self.varint()?; // long-form field id
-            }
-            match ty {
-                1 | 2 => {} // bool: value in the type
-                t => self.skip_value(t, depth)?,
+            id = if h >> 4 == 0 {
+                let z = self.varint()? as i64;
+                (z >> 1) ^ -(z & 1) // long-form field id, zigzag
+            } else {
+                id + i64::from(h >> 4)
+            };
+            match kind.field(id) {
+                Some((want, elem, child)) => {
+                    if ty != want {
+                        return Err(format!(
+                            "footer field {id} of {kind:?} has Thrift type {ty}, the format says {want}"
+                        ));
+                    }
+                    if want == 12 {
+                        self.walk_struct(child, depth + 1)?;
+                    } else {
+                        self.walk_list(elem, child, depth)?;
+                    }
+                }
+                None => match ty {
+                    1 | 2 => {} // bool: value in the type
+                    t => self.skip_value(t, depth)?,
+                },
             }
         }
+    }
+
+    /// A list polars reads with elements of type `elem` (structs of kind `child`).
+    fn walk_list(&mut self, elem: u8, child: Known, depth: u32) -> Result<(), String> {
+        let h = self.byte()?;
+        let n = if h >> 4 == 0x0f {
+            self.length("list")?
+        } else {
+            usize::from(h >> 4)
+        };
+        if h & 0x0f != elem {
+            return Err(format!(
+                "footer list has elements of Thrift type {}, the format says {elem}",
+                h & 0x0f
+            ));
+        }
+        if n > self.left() {
+            let left = self.left();
+            return Err(format!(
+                "footer declares a list of {n} with only {left} bytes left"
+            ));
+        }
+        for _ in 0..n {
+            if elem == 12 {
+                self.walk_struct(child, depth + 1)?;
+            } else {
+                self.skip_value(elem, depth + 1)?;
+            }
+        }
+        Ok(())
     }
 
     fn skip_value(&mut self, ty: u8, depth: u32) -> Result<(), String> {
