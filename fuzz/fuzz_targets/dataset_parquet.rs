@@ -4,33 +4,11 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use sinsbench_fuzz::{guard, render, write_input};
+use sinsbench_fuzz::{guard, read_dataset, write_input};
 
 fuzz_target!(|data: &[u8]| {
     guard(|| {
         let path = write_input("input.parquet", data);
-        read(&path);
+        read_dataset(&path);
     })
 });
-
-fn read(path: &std::path::Path) {
-    let mut reader = match sins_data::DatasetReader::open(path) {
-        Ok(r) => r,
-        Err(e) => {
-            render(&e);
-            return;
-        }
-    };
-    let _ = reader.info().meta.sample_interval_s();
-    let mut batch = sins_data::SampleBatch::default();
-    loop {
-        match reader.next_batch_into(&mut batch) {
-            Ok(true) => {}
-            Ok(false) => break,
-            Err(e) => {
-                render(&e);
-                break;
-            }
-        }
-    }
-}

@@ -93,3 +93,28 @@ pub fn guard(body: impl FnOnce()) {
         std::process::abort();
     }
 }
+
+/// Opens the dataset at `path` and streams every batch; errors are rendered (a panic, hang or
+/// runaway allocation is the finding). Shared by `dataset_csv` and `dataset_parquet`.
+#[cfg(feature = "data")]
+pub fn read_dataset(path: &Path) {
+    let mut reader = match sins_data::DatasetReader::open(path) {
+        Ok(r) => r,
+        Err(e) => {
+            render(&e);
+            return;
+        }
+    };
+    let _ = reader.info().meta.sample_interval_s();
+    let mut batch = sins_data::SampleBatch::default();
+    loop {
+        match reader.next_batch_into(&mut batch) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(e) => {
+                render(&e);
+                break;
+            }
+        }
+    }
+}

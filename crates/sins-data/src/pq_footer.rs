@@ -42,30 +42,99 @@ pub(crate) fn check_footer<F: Read + Seek>(
         .map_err(|reason| DataError::corrupt(path, reason))
 }
 
-/// The footer structs on polars' path to a list (parquet.thrift).
+/// The footer structs polars reads (parquet.thrift), whose fields it reads by id alone.
 #[derive(Clone, Copy, Debug)]
 enum Known {
     FileMetaData,
+    SchemaElement,
     RowGroup,
     ColumnChunk,
     ColumnMetaData,
+    KeyValue,
+    SortingColumn,
+    PageEncodingStats,
+    Statistics,
+    SizeStatistics,
+    /// Any other struct (unions such as LogicalType): walked by its declared types.
     Other,
 }
 
+/// What a Thrift compact type reads as: i16, i32 and i64 are all varints.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Class {
+    Bool,
+    Byte,
+    Varint,
+    Double,
+    Binary,
+    List,
+    Map,
+    Struct,
+}
+
+fn class(ty: u8) -> Option<Class> {
+    Some(match ty {
+        1 | 2 => Class::Bool,
+        3 => Class::Byte,
+        4..=6 => Class::Varint,
+        7 => Class::Double,
+        8 => Class::Binary,
+        9 | 10 => Class::List,
+        11 => Class::Map,
+        12 => Class::Struct,
+        _ => return None,
+    })
+}
+
+/// A field as the format declares it.
+#[derive(Clone, Copy, Debug)]
+enum Field {
+    Scalar(Class),
+    List(Class, Known),
+    Struct(Known),
+}
+
 impl Known {
-    /// The Thrift type of field `id` (9 list, 12 struct, 5 i32, 8 binary), the element type of a
-    /// list, and the kind of struct inside.
-    fn field(self, id: i64) -> Option<(u8, u8, Known)> {
+    /// The format's type of field `id` (`None`: an id polars skips by its declared type).
+    fn field(self, id: i64) -> Option<Field> {
+        use Class::{Binary as B, Bool, Struct as S, Varint as V};
+        use Field::{List, Scalar, Struct};
         use Known::*;
         Some(match (self, id) {
-            (FileMetaData, 2 | 5 | 7) => (9, 12, Other),
-            (FileMetaData, 4) => (9, 12, RowGroup),
-            (RowGroup, 1) => (9, 12, ColumnChunk),
-            (RowGroup, 4) => (9, 12, Other),
-            (ColumnChunk, 3) => (12, 0, ColumnMetaData),
-            (ColumnMetaData, 2) => (9, 5, Other),
-            (ColumnMetaData, 3) => (9, 8, Other),
-            (ColumnMetaData, 8 | 13) => (9, 12, Other),
+            (FileMetaData, 1 | 3) => Scalar(V),
+            (FileMetaData, 2) => List(S, SchemaElement),
+            (FileMetaData, 4) => List(S, RowGroup),
+            (FileMetaData, 5) => List(S, KeyValue),
+            (FileMetaData, 6 | 9) => Scalar(B),
+            (FileMetaData, 7) => List(S, Other),
+            (FileMetaData, 8) => Struct(Other),
+            (SchemaElement, 1..=3 | 5..=9) => Scalar(V),
+            (SchemaElement, 4) => Scalar(B),
+            (SchemaElement, 10) => Struct(Other),
+            (RowGroup, 1) => List(S, ColumnChunk),
+            (RowGroup, 2 | 3 | 5..=7) => Scalar(V),
+            (RowGroup, 4) => List(S, SortingColumn),
+            (ColumnChunk, 1 | 9) => Scalar(B),
+            (ColumnChunk, 2 | 4..=7) => Scalar(V),
+            (ColumnChunk, 3) => Struct(ColumnMetaData),
+            (ColumnChunk, 8) => Struct(Other),
+            (ColumnMetaData, 1 | 4..=7 | 9..=11 | 14 | 15) => Scalar(V),
+            (ColumnMetaData, 2) => List(V, Other),
+            (ColumnMetaData, 3) => List(B, Other),
+            (ColumnMetaData, 8) => List(S, KeyValue),
+            (ColumnMetaData, 12) => Struct(Statistics),
+            (ColumnMetaData, 13) => List(S, PageEncodingStats),
+            (ColumnMetaData, 16) => Struct(SizeStatistics),
+            (ColumnMetaData, 17) => Struct(Other),
+            (KeyValue, 1 | 2) => Scalar(B),
+            (SortingColumn, 1) => Scalar(V),
+            (SortingColumn, 2 | 3) => Scalar(Bool),
+            (PageEncodingStats, 1..=3) => Scalar(V),
+            (Statistics, 1 | 2 | 5 | 6) => Scalar(B),
+            (Statistics, 3 | 4) => Scalar(V),
+            (Statistics, 7 | 8) => Scalar(Bool),
+            (SizeStatistics, 1) => Scalar(V),
+            (SizeStatistics, 2 | 3) => List(V, Other),
             _ => return None,
         })
     }
@@ -137,39 +206,44 @@ impl Reader<'_> {
             } else {
                 id + i64::from(h >> 4)
             };
-            match kind.field(id) {
-                Some((want, elem, child)) => {
-                    if ty != want {
-                        return Err(format!(
-                            "footer field {id} of {kind:?} has Thrift type {ty}, the format says {want}"
-                        ));
-                    }
-                    if want == 12 {
-                        self.walk_struct(child, depth + 1)?;
-                    } else {
-                        self.walk_list(elem, child, depth)?;
-                    }
-                }
-                None => match ty {
+            let Some(field) = kind.field(id) else {
+                match ty {
                     1 | 2 => {} // bool: value in the type
                     t => self.skip_value(t, depth)?,
-                },
+                }
+                continue;
+            };
+            let want = match field {
+                Field::Scalar(c) => c,
+                Field::List(..) => Class::List,
+                Field::Struct(_) => Class::Struct,
+            };
+            if class(ty) != Some(want) {
+                return Err(format!(
+                    "footer field {id} of {kind:?} has Thrift type {ty}, the format says {want:?}"
+                ));
+            }
+            match field {
+                Field::Scalar(Class::Bool) => {} // value in the type
+                Field::Scalar(_) => self.skip_value(ty, depth)?,
+                Field::List(elem, child) => self.walk_list(elem, child, depth)?,
+                Field::Struct(child) => self.walk_struct(child, depth + 1)?,
             }
         }
     }
 
-    /// A list polars reads with elements of type `elem` (structs of kind `child`).
-    fn walk_list(&mut self, elem: u8, child: Known, depth: u32) -> Result<(), String> {
+    /// A list polars reads with elements of class `elem` (structs of kind `child`).
+    fn walk_list(&mut self, elem: Class, child: Known, depth: u32) -> Result<(), String> {
         let h = self.byte()?;
         let n = if h >> 4 == 0x0f {
             self.length("list")?
         } else {
             usize::from(h >> 4)
         };
-        if h & 0x0f != elem {
+        let ty = h & 0x0f;
+        if class(ty) != Some(elem) {
             return Err(format!(
-                "footer list has elements of Thrift type {}, the format says {elem}",
-                h & 0x0f
+                "footer list has elements of Thrift type {ty}, the format says {elem:?}"
             ));
         }
         if n > self.left() {
@@ -179,10 +253,10 @@ impl Reader<'_> {
             ));
         }
         for _ in 0..n {
-            if elem == 12 {
+            if elem == Class::Struct {
                 self.walk_struct(child, depth + 1)?;
             } else {
-                self.skip_value(elem, depth + 1)?;
+                self.skip_value(ty, depth + 1)?;
             }
         }
         Ok(())

@@ -3,21 +3,9 @@
 //! is written; `--align-s` below the coarse stage is refused with a message that says so.
 
 use std::path::Path;
-use std::process::Output;
 
 mod common;
-use common::{csv_without_temperatures, experiments, run, s};
-
-/// Exit code 2 and a message on stderr that contains every one of `needles`.
-fn assert_refused(o: &Output, needles: &[&str]) -> String {
-    let err = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert_eq!(o.status.code(), Some(2), "exit code; stderr:\n{err}");
-    assert!(!err.contains("panicked"), "{err}");
-    for n in needles {
-        assert!(err.contains(n), "'{n}' missing from:\n{err}");
-    }
-    err
-}
+use common::{assert_refused, csv_without_temperatures, experiments, run, s};
 
 /// The paper's error-free navigation experiment with `from` replaced by `to`, written into `dir`
 /// with its referenced files resolved against the repository.

@@ -3,21 +3,9 @@
 //! report, zero worker threads, a self-alignment time that is not a positive number.
 
 use std::path::Path;
-use std::process::Output;
 
 mod common;
-use common::{csv_without_temperatures, experiments, gate_summary_json, run, s};
-
-/// Exit code 2 and a message on stderr that contains every one of `needles`.
-fn assert_refused(o: &Output, needles: &[&str]) -> String {
-    let err = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert_eq!(o.status.code(), Some(2), "exit code; stderr:\n{err}");
-    assert!(!err.contains("panicked"), "{err}");
-    for n in needles {
-        assert!(err.contains(n), "'{n}' missing from:\n{err}");
-    }
-    err
-}
+use common::{assert_refused, csv_without_temperatures, experiments, gate_summary_json, run, s};
 
 #[test]
 fn gate_refuses_thresholds_that_check_nothing() {

@@ -140,3 +140,14 @@ pub fn gate_summary_json(with_nmi: f64, without_nmi: f64) -> String {
     }
     .to_json()
 }
+
+/// Exit code 2 and a message on stderr that contains every one of `needles`.
+pub fn assert_refused(o: &std::process::Output, needles: &[&str]) -> String {
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(2), "exit code; stderr:\n{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "'{n}' missing from:\n{err}");
+    }
+    err
+}
