@@ -186,18 +186,7 @@ fn paper_navigation_has_three_15h_runs() {
             .thermal
             .chamber
             .iter()
-            .map(|c| match c {
-                ChamberSegment::Hold { .. } => 0.0,
-                ChamberSegment::Ramp {
-                    duration_s,
-                    rate_degc_per_s,
-                }
-                | ChamberSegment::Fluctuating {
-                    duration_s,
-                    rate_degc_per_s,
-                    ..
-                } => duration_s * rate_degc_per_s,
-            })
+            .map(ChamberSegment::trend_change_degc)
             .sum();
         assert!(drop < -15.0, "{}: drop {drop}", s.name);
         assert!(s.truth.reference_temperature_degc == 20.0);

@@ -23,19 +23,16 @@ impl TempPath {
     /// Create a new, empty, uniquely named temporary file in the target's directory. Refuses a
     /// target that is an existing directory.
     pub fn create(target: &Path) -> Result<(Self, File), DataError> {
-        if std::fs::symlink_metadata(target).is_ok_and(|m| m.is_dir()) {
-            return Err(DataError::invalid_write(
-                target,
-                "exists and is a directory, where a file is to be written; it is left untouched \
-                 (choose another path or remove it)",
-            ));
-        }
         let (temp, file) = Temporary::file(target).map_err(|e| {
-            DataError::io(
-                target,
-                "creating a temporary file in the target directory",
-                e,
-            )
+            if e.kind() == std::io::ErrorKind::IsADirectory {
+                DataError::invalid_write(target, e.to_string())
+            } else {
+                DataError::io(
+                    target,
+                    "creating a temporary file in the target directory",
+                    e,
+                )
+            }
         })?;
         Ok((
             Self {

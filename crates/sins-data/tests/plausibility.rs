@@ -8,7 +8,17 @@ use std::path::{Path, PathBuf};
 use common::{good_columns, kv_with, meta, write_raw_csv, write_raw_parquet};
 use sins_data::{DataError, KEY_SAMPLE_RATE_HZ, KEY_SITE_HEIGHT_M, read_all};
 
-/// Write `n` good rows in both formats after setting `column` at `row` to `value`.
+/// `cols` with the default metadata as `<stem>.parquet` and `<stem>.csv` in `dir`.
+fn write_both(dir: &Path, stem: &str, cols: &[(String, Vec<f64>)]) -> [PathBuf; 2] {
+    let kv = meta().to_key_values();
+    let pq = dir.join(format!("{stem}.parquet"));
+    let csv = dir.join(format!("{stem}.csv"));
+    write_raw_parquet(&pq, cols, &kv);
+    write_raw_csv(&csv, cols, &kv);
+    [pq, csv]
+}
+
+/// Write 40 good rows in both formats after setting `column` at `row` to `value`.
 fn with_value(dir: &Path, stem: &str, column: &str, row: usize, value: f64) -> [PathBuf; 2] {
     let mut cols = good_columns(40);
     let c = cols
@@ -16,12 +26,7 @@ fn with_value(dir: &Path, stem: &str, column: &str, row: usize, value: f64) -> [
         .find(|(n, _)| n == column)
         .expect("column exists");
     c.1[row] = value;
-    let kv = meta().to_key_values();
-    let pq = dir.join(format!("{stem}.parquet"));
-    let csv = dir.join(format!("{stem}.csv"));
-    write_raw_parquet(&pq, &cols, &kv);
-    write_raw_csv(&csv, &cols, &kv);
-    [pq, csv]
+    write_both(dir, stem, &cols)
 }
 
 /// Both files are refused with an [`DataError::Implausible`] at `row` of `column`; returns the
@@ -59,11 +64,7 @@ fn good_values_at_the_limits_are_accepted() {
             _ => {}
         }
     }
-    let kv = meta().to_key_values();
-    let (pq, csv) = (dir.path().join("edge.parquet"), dir.path().join("edge.csv"));
-    write_raw_parquet(&pq, &cols, &kv);
-    write_raw_csv(&csv, &cols, &kv);
-    for p in [pq, csv] {
+    for p in write_both(dir.path(), "edge", &cols) {
         read_all(&p).unwrap_or_else(|e| panic!("{e}"));
     }
 }
@@ -114,12 +115,7 @@ fn reference_file(dir: &Path, stem: &str, column: &str, row: usize, value: f64) 
         }
         cols.push((name.to_string(), values));
     }
-    let kv = meta().to_key_values();
-    let pq = dir.join(format!("{stem}.parquet"));
-    let csv = dir.join(format!("{stem}.csv"));
-    write_raw_parquet(&pq, &cols, &kv);
-    write_raw_csv(&csv, &cols, &kv);
-    [pq, csv]
+    write_both(dir, stem, &cols)
 }
 
 #[test]

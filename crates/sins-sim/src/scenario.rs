@@ -86,6 +86,26 @@ pub enum ChamberSegment {
     },
 }
 
+impl ChamberSegment {
+    /// Change of the chamber temperature over the segment from its trend (degC): rate times
+    /// duration for a ramp or a fluctuating segment (the sinusoid's end value aside), 0 for a
+    /// hold (its step is not a trend).
+    pub fn trend_change_degc(&self) -> f64 {
+        match self {
+            ChamberSegment::Hold { .. } => 0.0,
+            ChamberSegment::Ramp {
+                duration_s,
+                rate_degc_per_s,
+            }
+            | ChamberSegment::Fluctuating {
+                duration_s,
+                rate_degc_per_s,
+                ..
+            } => duration_s * rate_degc_per_s,
+        }
+    }
+}
+
 /// Chamber profile, accelerometer thermal lags and thermometers.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ThermalModel {
@@ -149,4 +169,30 @@ pub struct Scenario {
     pub seed: u64,
     /// Write reference (truth) attitude, velocity and position columns.
     pub with_reference: bool,
+}
+
+#[cfg(test)]
+mod chamber_tests {
+    use super::ChamberSegment;
+
+    #[test]
+    fn trend_change_is_rate_times_duration_and_zero_for_a_hold() {
+        let ramp = ChamberSegment::Ramp {
+            duration_s: 3600.0,
+            rate_degc_per_s: -2.0 / 3600.0,
+        };
+        let fluct = ChamberSegment::Fluctuating {
+            duration_s: 1800.0,
+            rate_degc_per_s: 1.0 / 3600.0,
+            fluctuation_amplitude_degc: 0.7,
+            fluctuation_period_s: 600.0,
+        };
+        let hold = ChamberSegment::Hold {
+            duration_s: 100.0,
+            temp_degc: 40.0,
+        };
+        assert!((ramp.trend_change_degc() + 2.0).abs() < 1e-12);
+        assert!((fluct.trend_change_degc() - 0.5).abs() < 1e-12);
+        assert_eq!(hold.trend_change_degc(), 0.0);
+    }
 }

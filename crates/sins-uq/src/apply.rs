@@ -153,18 +153,7 @@ fn navigation_thermal(th: &mut ThermalModel, value: &dyn Fn(Knob) -> Option<f64>
     let base_drop: f64 = -th
         .chamber
         .iter()
-        .map(|s| match s {
-            ChamberSegment::Ramp {
-                duration_s,
-                rate_degc_per_s,
-            }
-            | ChamberSegment::Fluctuating {
-                duration_s,
-                rate_degc_per_s,
-                ..
-            } => duration_s * rate_degc_per_s,
-            ChamberSegment::Hold { .. } => 0.0,
-        })
+        .map(ChamberSegment::trend_change_degc)
         .sum::<f64>();
     let rate_factor = match value(Knob::NavTemperatureDropDegc) {
         Some(drop) if base_drop.abs() > 1e-9 => drop / base_drop,

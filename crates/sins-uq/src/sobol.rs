@@ -121,12 +121,12 @@ pub struct GroupIndex {
     pub total: [f64; 3],
 }
 
-/// The rows of the design present in `outcomes`: `(A, B, [A_B^g])` outcomes for every index
-/// that has all of them, in index order.
-pub fn design_rows<'a>(
-    set: &AssumptionSet,
-    outcomes: &'a [SampleOutcome],
-) -> Vec<(&'a SampleOutcome, &'a SampleOutcome, Vec<&'a SampleOutcome>)> {
+/// One row of the design: the outcomes of A, B and every group's `A_B^g`.
+pub type DesignRow<'a> = (&'a SampleOutcome, &'a SampleOutcome, Vec<&'a SampleOutcome>);
+
+/// The rows of the design present in `outcomes`, for every index that has all of them, in
+/// index order.
+pub fn design_rows<'a>(set: &AssumptionSet, outcomes: &'a [SampleOutcome]) -> Vec<DesignRow<'a>> {
     let find = |study: &str, j: usize| outcomes.iter().find(|o| o.study == study && o.index == j);
     let n_groups = groups(set).len();
     (0..set.pick_freeze_samples.min(set.samples))
@@ -141,16 +141,15 @@ pub fn design_rows<'a>(
         .collect()
 }
 
-/// Grouped indices of the cell whose (transformed) value `value` gives, over the design's rows;
-/// empty with fewer than 2 rows.
+/// Grouped indices of the cell whose (transformed) value `value` gives, over the design's `rows`
+/// ([`design_rows`]); empty with fewer than 2 rows.
 pub fn group_indices(
     set: &AssumptionSet,
-    outcomes: &[SampleOutcome],
+    rows: &[DesignRow],
     value: &dyn Fn(&SampleOutcome) -> f64,
     resamples: usize,
     seed: u64,
 ) -> Vec<GroupIndex> {
-    let rows = design_rows(set, outcomes);
     if rows.len() < 2 {
         return Vec::new();
     }

@@ -333,11 +333,12 @@ pub fn summarize(
             )
         })
         .collect();
+    let rows = design_rows(set, outcomes);
     for (k, (id, cell)) in ids.iter().zip(&mut cells).enumerate() {
         if let Some(sens) = &mut cell.sensitivity {
             let value = |o: &SampleOutcome| crate::gap::transform(*id, id.value(o));
             let seed = set.seed ^ (0x50b0_0000 + k as u64);
-            sens.groups = group_indices(set, outcomes, &value, BOOTSTRAP_RESAMPLES, seed);
+            sens.groups = group_indices(set, &rows, &value, BOOTSTRAP_RESAMPLES, seed);
         }
     }
     let table2 = paper
@@ -355,7 +356,7 @@ pub fn summarize(
         schema: UQ_SCHEMA,
         seed: set.seed,
         samples: main.len(),
-        pick_freeze_samples: design_rows(set, outcomes).len(),
+        pick_freeze_samples: rows.len(),
         assumptions: set
             .assumptions
             .iter()

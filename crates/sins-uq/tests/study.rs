@@ -362,4 +362,20 @@ fn point_job_is_the_harness_pipeline_and_summaries_do_not_depend_on_threads_or_s
             .iter()
             .all(|g| g.total[0] >= 0.0 && g.total[1] <= g.total[0])
     );
+    // Structure the design must reproduce exactly: the 30-state calibration condition cannot
+    // move the 42-state cell ("exp1 with": same calibration data and seed either way), so its
+    // A and A_B rows agree bit for bit and both indices are 0; the noise realisation moves
+    // every cell.
+    let with = &summary.cells[1].sensitivity.as_ref().unwrap().groups;
+    assert_eq!(with[0].group, "cal30");
+    assert_eq!(
+        (with[0].total[0], with[0].first_order[0]),
+        (0.0, 0.0),
+        "{with:?}"
+    );
+    for c in &summary.cells {
+        let g = &c.sensitivity.as_ref().unwrap().groups;
+        let noise = g.iter().find(|g| g.group == "noise realisation").unwrap();
+        assert!(noise.total[0] > 0.0, "{}: {noise:?}", c.cell);
+    }
 }

@@ -217,6 +217,10 @@ fn sharded_and_single_process_summaries_are_identical() {
         let total = g["total"][0].as_f64().unwrap();
         assert!(total.is_finite() && total >= 0.0, "{g}");
     }
+    // The 30-state calibration condition cannot move the 42-state cell: index exactly 0.
+    let with = &t["cells"][1];
+    assert_eq!(with["cell"], "exp1 with");
+    assert_eq!(with["sensitivity"]["groups"][0]["total"][0], 0.0, "{with}");
     assert!(
         std::fs::read_to_string(one.join("report.md"))
             .unwrap()
