@@ -3,16 +3,35 @@
 //! baseline against the proposed method (Table 3 with the truth) and the timing.
 
 use crate::format::{clean, decimals_for, fixed, sig, yes};
+use crate::montecarlo::Table1Study;
 use crate::study::Study;
 use std::fmt::Write;
+
+/// Render the Table 1 Monte Carlo alone (Table 1, consistency, observability): the sections of
+/// [`render_markdown`] that a [`Table1Study`] holds, e.g. for a calibration Monte Carlo run as
+/// a campaign.
+pub fn render_table1_markdown(t: &Table1Study) -> String {
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "# Calibration Monte Carlo (Wang et al. 2021, Table 1)\n\nExperiment `{}`, {} seeds {:?}.\n",
+        t.experiment,
+        t.seeds.len(),
+        t.seeds
+    );
+    table1(&mut o, t);
+    consistency(&mut o, t);
+    observability(&mut o, t);
+    o
+}
 
 /// Render the whole study as Markdown.
 pub fn render_markdown(s: &Study) -> String {
     let mut o = String::new();
     header(&mut o, s);
-    table1(&mut o, s);
-    consistency(&mut o, s);
-    observability(&mut o, s);
+    table1(&mut o, &s.table1);
+    consistency(&mut o, &s.table1);
+    observability(&mut o, &s.table1);
     thirty(&mut o, s);
     crate::markdown_ls::least_squares(&mut o, s);
     timing(&mut o, s);
@@ -55,8 +74,7 @@ fn header(o: &mut String, s: &Study) {
     );
 }
 
-fn table1(o: &mut String, s: &Study) {
-    let t = &s.table1;
+fn table1(o: &mut String, t: &Table1Study) {
     let n = t.seeds.len();
     let _ = writeln!(o, "## 1. Table 1 reproduced\n");
     let _ = writeln!(
@@ -130,8 +148,7 @@ fn table1(o: &mut String, s: &Study) {
     let _ = writeln!(o);
 }
 
-fn consistency(o: &mut String, s: &Study) {
-    let t = &s.table1;
+fn consistency(o: &mut String, t: &Table1Study) {
     let n = t.seeds.len();
     let _ = writeln!(o, "## 2. Consistency\n");
     let _ = writeln!(
@@ -163,8 +180,7 @@ fn consistency(o: &mut String, s: &Study) {
     );
 }
 
-fn observability(o: &mut String, s: &Study) {
-    let t = &s.table1;
+fn observability(o: &mut String, t: &Table1Study) {
     let _ = writeln!(o, "## 3. Observability under the 18-step scheme\n");
     let _ = writeln!(
         o,

@@ -6,9 +6,9 @@ use crate::reference::Table1;
 use crate::run::CalibrationRun;
 use crate::stats::{median, nees, nees_mean_interval};
 use crate::units::{PARAMS, to_paper, vec_to_paper};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use sins_imu::{ImuErrorParams, ParamModel};
-use sins_kf::params_to_vec;
+use sins_kf::{ObservabilityReport, params_to_vec};
 
 /// The Monte Carlo seeds of an experiment run: the run's own seed first, then the next ones
 /// (`run_seed + i`, wrapping; the simulator expands each seed into an unrelated ChaCha key).
@@ -17,7 +17,7 @@ pub fn mc_seeds(run_seed: u64, n: usize) -> Vec<u64> {
 }
 
 /// One Monte Carlo seed of the 42-state filter, coefficients in paper units (eq-8 order).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SeedOutcome {
     /// Simulation seed.
     pub seed: u64,
@@ -54,6 +54,39 @@ impl SeedOutcome {
             sigma_ratio: r.observability.states.iter().map(|s| s.ratio).collect(),
             max_normalized_innovation: r.max_normalized_innovation,
         }
+    }
+}
+
+/// What Table 1 needs of one calibration run, serialisable so that the runs of a Monte Carlo can
+/// be computed apart (campaign shards) and assembled later: the per-seed outcome, the initial
+/// and final 1-sigma of all 42 states (SI, state order) and the estimate (SI, 33 coefficients).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct McRunOutcome {
+    /// The seed's outcome against the truth.
+    pub outcome: SeedOutcome,
+    /// 1-sigma of every state when the filter started (SI, state order, 42 values).
+    pub initial_sigma_si: Vec<f64>,
+    /// 1-sigma of every state at the end (SI, state order, 42 values).
+    pub final_sigma_si: Vec<f64>,
+    /// Estimate of the 33 coefficients (SI, state order).
+    pub estimate_si: Vec<f64>,
+}
+
+impl McRunOutcome {
+    /// Evaluate one 42-state calibration run of seed `seed` against the truth.
+    pub fn new(seed: u64, run: &CalibrationRun, truth: &ImuErrorParams) -> Self {
+        let states = &run.result.observability.states;
+        Self {
+            outcome: SeedOutcome::new(seed, run, truth),
+            initial_sigma_si: states.iter().map(|s| s.initial_sigma).collect(),
+            final_sigma_si: states.iter().map(|s| s.final_sigma).collect(),
+            estimate_si: params_to_vec(&run.result.params, ParamModel::States42),
+        }
+    }
+
+    /// The run's observability report (final over initial 1-sigma of every state).
+    pub fn observability(&self) -> ObservabilityReport {
+        ObservabilityReport::new(&self.initial_sigma_si, &self.final_sigma_si, 0.1)
     }
 }
 
@@ -170,10 +203,33 @@ impl Table1Study {
         truth: &ImuErrorParams,
         table1: &Table1,
     ) -> Self {
+        let free = params_to_vec(&noise_free.result.params, ParamModel::States42);
+        Self::from_outcomes(
+            experiment,
+            per_seed,
+            &first.result.observability,
+            &free,
+            truth,
+            table1,
+        )
+    }
+
+    /// Build from the per-seed outcomes (first = the run's own seed), the first seed's
+    /// observability report, the noise-free run's estimate (SI, 33 coefficients in state
+    /// order), the truth and the paper's Table 1: [`Table1Study::new`] without the runs
+    /// themselves (e.g. from [`McRunOutcome`]s computed elsewhere).
+    pub fn from_outcomes(
+        experiment: String,
+        per_seed: Vec<SeedOutcome>,
+        first: &ObservabilityReport,
+        noise_free_estimate_si: &[f64],
+        truth: &ImuErrorParams,
+        table1: &Table1,
+    ) -> Self {
         let n = per_seed.len();
         let truth_si = params_to_vec(truth, ParamModel::States42);
         let truth_p = vec_to_paper(&truth_si);
-        let free = params_to_vec(&noise_free.result.params, ParamModel::States42);
+        let free = noise_free_estimate_si;
         let required = (9 * n).div_ceil(10);
         let entries: Vec<Table1Entry> = table1
             .rows
@@ -254,10 +310,8 @@ impl Table1Study {
     }
 }
 
-fn observability(first: &CalibrationRun, per_seed: &[SeedOutcome]) -> Vec<ObservabilityEntry> {
+fn observability(first: &ObservabilityReport, per_seed: &[SeedOutcome]) -> Vec<ObservabilityEntry> {
     first
-        .result
-        .observability
         .states
         .iter()
         .enumerate()

@@ -13,10 +13,9 @@ use crate::thirty::ThirtyStateStudy;
 use serde::Serialize;
 use sins_config::{load_experiment, motion_duration_s};
 use sins_imu::ParamModel;
-use sins_kf::FilterNoise;
 use sins_nav::{ARCSEC, DEG_PER_H, UG};
+use sins_sim::Scenario;
 use sins_sim::noise::GM_ALLAN_PEAK_RATIO;
-use sins_sim::{NoiseModel, Scenario};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -204,14 +203,7 @@ pub fn run_study(cfg: &StudyConfig) -> Result<Study, StudyError> {
     let first_run = mc_run(0)?;
     let results = map_indexed(jobs.len(), cfg.threads, |i| match jobs[i] {
         Job::Mc(k) => mc_run(k),
-        Job::NoiseFree => {
-            let mut sc = base.clone();
-            sc.noise = NoiseModel::default();
-            sc.thermal.thermometer_noise_degc = 0.0;
-            let mut c = config_for_scenario(&sc, ParamModel::States42);
-            c.noise = FilterNoise::none();
-            calibrate_scenario(&sc, c)
-        }
+        Job::NoiseFree => crate::table1mc::noise_free_run(&base),
         Job::Thirty => run(&base, ParamModel::States30),
         Job::Ls(k) => run(&ls[k], ParamModel::States30),
         Job::Proposed => run(&proposed_sc, ParamModel::States42),

@@ -127,18 +127,20 @@ fn generate(
     Ok((datasets, result))
 }
 
-/// Run the suite: draw and seal, generate and diagnose every case, open and grade.
-pub fn run_suite(cfg: &SuiteConfig, progress: &mut dyn Progress) -> Result<SuiteResult, GapError> {
+/// A drawn and sealed suite: every case's answer (for generating its data only) and the seal
+/// whose hashes are fixed before any diagnosis runs.
+#[derive(Clone, Debug)]
+pub struct SealedSuite {
+    /// The drawn cases, in order (`case01`, `case02`, ...).
+    pub answers: Vec<CaseAnswer>,
+    /// The seal.
+    pub index: SealIndex,
+}
+
+/// Draw the cases and seal their answers under `cfg.out/sealed/`; checks `cfg.only`.
+pub fn seal_suite(cfg: &SuiteConfig) -> Result<SealedSuite, GapError> {
     std::fs::create_dir_all(&cfg.out).map_err(|e| GapError::io(&cfg.out, e))?;
     let answers = draw_cases(&cfg.shape, cfg.suite_seed);
-    let index = seal(&cfg.out, cfg.suite_seed, &answers)?;
-    let noise = NoiseSpec::from(
-        &load_experiment(&cfg.navigation_experiment)?
-            .scenarios
-            .first()
-            .ok_or_else(|| GapError::Invalid("the navigation experiment has no run".into()))?
-            .noise,
-    );
     if let Some(unknown) = cfg
         .only
         .iter()
@@ -150,60 +152,128 @@ pub fn run_suite(cfg: &SuiteConfig, progress: &mut dyn Progress) -> Result<Suite
             answers.len()
         )));
     }
-    let selected = |case: &str| cfg.only.is_empty() || cfg.only.iter().any(|c| c == case);
-    let mut diagnoses: Vec<(String, Diagnosis)> = Vec::new();
-    let mut timing = Vec::new();
-    for answer in answers.iter().filter(|a| selected(&a.case)) {
-        let case_dir = cfg.out.join("cases").join(&answer.case);
-        let t = Instant::now();
-        let (datasets, cal) = generate(cfg, answer, &case_dir.join("data"), progress)?;
-        let generate_s = t.elapsed().as_secs_f64();
-        // From here on the diagnosis sees only files and the calibrated parameter set.
-        let t = Instant::now();
-        let request = DiagnoseRequest {
-            datasets: datasets.clone(),
-            params: cal.params,
-            param_sigma: Some(cal.sigma),
-            param_covariance: Some(cal.param_covariance.clone()),
-            noise,
-            calibration_run: Some(CALIBRATION_RUN.to_string()),
-            config: cfg.diagnose.clone(),
-        };
-        let outcome = diagnose_datasets(&request)?;
-        crate::write_diagnosis(&case_dir, "diagnosis", &outcome)?;
-        timing.push(CaseTiming {
-            case: answer.case.clone(),
-            generate_s,
-            diagnose_s: t.elapsed().as_secs_f64(),
-        });
-        if !cfg.keep_datasets {
-            let data = case_dir.join("data");
-            std::fs::remove_dir_all(&data).map_err(|e| GapError::io(&data, e))?;
-        }
-        diagnoses.push((answer.case.clone(), outcome.diagnosis));
+    let index = seal(&cfg.out, cfg.suite_seed, &answers)?;
+    Ok(SealedSuite { answers, index })
+}
+
+/// The twin's noise model of every case: the navigation experiment's `[imu.noise]`.
+pub fn twin_noise(cfg: &SuiteConfig) -> Result<NoiseSpec, GapError> {
+    Ok(NoiseSpec::from(
+        &load_experiment(&cfg.navigation_experiment)?
+            .scenarios
+            .first()
+            .ok_or_else(|| GapError::Invalid("the navigation experiment has no run".into()))?
+            .noise,
+    ))
+}
+
+/// One case: generate the "real" IMU's data from its answer under `cfg.out/cases/<case>/data`
+/// (removed afterwards unless `keep_datasets`), diagnose the files blind and write the
+/// diagnosis to `cfg.out/cases/<case>/diagnosis/`. Data a killed earlier attempt left is
+/// replaced.
+pub fn run_case(
+    cfg: &SuiteConfig,
+    answer: &CaseAnswer,
+    noise: NoiseSpec,
+    progress: &mut dyn Progress,
+) -> Result<(Diagnosis, CaseTiming), GapError> {
+    let case_dir = cfg.out.join("cases").join(&answer.case);
+    let data = case_dir.join("data");
+    if data.exists() {
+        std::fs::remove_dir_all(&data).map_err(|e| GapError::io(&data, e))?;
     }
-    // Only now: open the sealed manifests (hash-checked) and grade.
-    let opened = open(&cfg.out, &index)?;
-    let pairs: Vec<(CaseAnswer, Diagnosis)> = opened
+    let t = Instant::now();
+    let (datasets, cal) = generate(cfg, answer, &data, progress)?;
+    let generate_s = t.elapsed().as_secs_f64();
+    // From here on the diagnosis sees only files and the calibrated parameter set.
+    let t = Instant::now();
+    let request = DiagnoseRequest {
+        datasets,
+        params: cal.params,
+        param_sigma: Some(cal.sigma),
+        param_covariance: Some(cal.param_covariance.clone()),
+        noise,
+        calibration_run: Some(CALIBRATION_RUN.to_string()),
+        config: cfg.diagnose.clone(),
+    };
+    let outcome = diagnose_datasets(&request)?;
+    crate::write_diagnosis(&case_dir, "diagnosis", &outcome)?;
+    let timing = CaseTiming {
+        case: answer.case.clone(),
+        generate_s,
+        diagnose_s: t.elapsed().as_secs_f64(),
+    };
+    if !cfg.keep_datasets {
+        std::fs::remove_dir_all(&data).map_err(|e| GapError::io(&data, e))?;
+    }
+    Ok((outcome.diagnosis, timing))
+}
+
+/// Open the sealed manifests (hash-checked) and grade the diagnoses of the cases run (in case
+/// order; all of them, or those of `cfg.only`). The Markdown holds no timing, so that the same
+/// diagnoses always give the same bytes.
+pub fn grade_suite(
+    cfg: &SuiteConfig,
+    index: &SealIndex,
+    diagnoses: Vec<(String, Diagnosis)>,
+) -> Result<(Grades, String), GapError> {
+    let selected = |case: &str| cfg.only.is_empty() || cfg.only.iter().any(|c| c == case);
+    let opened: Vec<CaseAnswer> = open(&cfg.out, index)?
         .into_iter()
         .filter(|a| selected(&a.case))
+        .collect();
+    if opened.len() != diagnoses.len()
+        || opened
+            .iter()
+            .zip(&diagnoses)
+            .any(|(a, (c, _))| &a.case != c)
+    {
+        return Err(GapError::Invalid(format!(
+            "{} diagnoses for {} sealed cases, or not in case order",
+            diagnoses.len(),
+            opened.len()
+        )));
+    }
+    let pairs: Vec<(CaseAnswer, Diagnosis)> = opened
+        .into_iter()
         .zip(diagnoses)
-        .map(|(a, (case, d))| {
-            debug_assert_eq!(a.case, case);
-            (a, d)
-        })
+        .map(|(a, (_, d))| (a, d))
         .collect();
     let grades = grade(&pairs);
-    let mut markdown = render_grades(&grades, &index.suite_sha256);
-    markdown.push_str("\n## Time per case (s)\n\n| case | generate | diagnose |\n|---|---|---|\n");
-    for t in &timing {
-        markdown.push_str(&format!(
+    let markdown = render_grades(&grades, &index.suite_sha256);
+    Ok((grades, markdown))
+}
+
+/// The per-case timing as a Markdown table.
+pub fn timing_markdown(timing: &[CaseTiming]) -> String {
+    let mut md =
+        String::from("\n## Time per case (s)\n\n| case | generate | diagnose |\n|---|---|---|\n");
+    for t in timing {
+        md.push_str(&format!(
             "| {} | {:.1} | {:.1} |\n",
             t.case, t.generate_s, t.diagnose_s
         ));
     }
+    md
+}
+
+/// Run the suite: draw and seal, generate and diagnose every case, open and grade.
+pub fn run_suite(cfg: &SuiteConfig, progress: &mut dyn Progress) -> Result<SuiteResult, GapError> {
+    let sealed = seal_suite(cfg)?;
+    let noise = twin_noise(cfg)?;
+    let selected = |case: &str| cfg.only.is_empty() || cfg.only.iter().any(|c| c == case);
+    let mut diagnoses: Vec<(String, Diagnosis)> = Vec::new();
+    let mut timing = Vec::new();
+    for answer in sealed.answers.iter().filter(|a| selected(&a.case)) {
+        let (diagnosis, t) = run_case(cfg, answer, noise, progress)?;
+        timing.push(t);
+        diagnoses.push((answer.case.clone(), diagnosis));
+    }
+    // Only now: open the sealed manifests (hash-checked) and grade.
+    let (grades, mut markdown) = grade_suite(cfg, &sealed.index, diagnoses)?;
+    markdown.push_str(&timing_markdown(&timing));
     Ok(SuiteResult {
-        index,
+        index: sealed.index,
         grades,
         timing,
         markdown,
