@@ -8,6 +8,7 @@ mod bench;
 mod blind;
 mod calibrate;
 mod calreport;
+mod campaign;
 mod defaults;
 mod diagnose;
 mod gate;
@@ -91,6 +92,12 @@ enum Command {
     /// gap diagnosed (candidates chosen on some cells, judged on the withheld ones). Runs in one
     /// process or as shards (--shard I/K) with the same result. Writes reports/replica_uq/.
     ReplicaUq(uq::Args),
+    /// Campaigns of independent runs (blind suite, calibration Monte Carlo, replica UQ, a list
+    /// of reports; experiments/campaigns/*.toml) split into shards by a fixed rule: `plan` a
+    /// directory, run each `shard` anywhere that sees it (one process, Slurm array tasks via
+    /// scripts/slurm-campaign, Kubernetes indexed jobs), then `reduce`; or `local` for all of it
+    /// on this machine. The summary is byte-identical however the shards were run.
+    Campaign(campaign::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -111,6 +118,7 @@ fn main() -> std::process::ExitCode {
         Command::Blind(a) => blind::run(a, cli.quiet),
         Command::Bench(a) => bench::run(a, cli.quiet),
         Command::ReplicaUq(a) => uq::run(a, cli.quiet),
+        Command::Campaign(a) => campaign::run(a, cli.quiet),
     };
     if cli.stats {
         stats::print(started.elapsed());
