@@ -62,9 +62,10 @@ enum Step {
         /// The campaign directory.
         #[arg(long)]
         out: PathBuf,
-        /// Worker threads, one shard each (results do not depend on it).
-        #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u64).range(1..=256))]
-        threads: u64,
+        /// Worker threads, one shard each (default: this machine's cores; results do not
+        /// depend on it).
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..=256))]
+        threads: Option<u64>,
     },
 }
 
@@ -138,7 +139,11 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                 &format!("{} jobs", opened.manifest.campaign),
                 quiet,
             );
-            let result = opened.run_local(threads as usize, &|jobs| bar.inc(jobs as u64));
+            let threads = threads.map_or_else(
+                || std::thread::available_parallelism().map_or(1, |n| n.get()),
+                |t| t as usize,
+            );
+            let result = opened.run_local(threads, &|jobs| bar.inc(jobs as u64));
             bar.finish_and_clear();
             result?;
             reduce(&opened, &out)
