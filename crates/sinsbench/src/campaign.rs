@@ -82,6 +82,9 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     match args.step {
         Step::Plan { config, out } => plan(&config, &out, &ctx).map(|_| ()),
         Step::Shard { dir, index } => {
+            // No sweep of DIR/shards here: shards of other nodes write there at the same time, and
+            // whether their process lives can only be told on their own node. A temporary left
+            // by a SIGKILLed shard is a hidden file the reduce never reads.
             let opened = sins_campaign::open(&dir, &ctx)?;
             let label = opened
                 .manifest
@@ -94,7 +97,10 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                 ShardRun::AlreadyDone => say!("shard {index} ({label}) was already done"),
             }
         }
-        Step::Reduce { dir } => reduce(&sins_campaign::open(&dir, &ctx)?, &dir),
+        Step::Reduce { dir } => {
+            crate::outputs::sweep(&dir);
+            reduce(&sins_campaign::open(&dir, &ctx)?, &dir)
+        }
         Step::Status { dir, missing } => {
             let opened = sins_campaign::open(&dir, &ctx)?;
             let todo = opened.missing();

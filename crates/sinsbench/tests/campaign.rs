@@ -131,3 +131,89 @@ fn the_shipped_campaign_files_load() {
         assert!(!c.name.is_empty());
     }
 }
+
+/// A `reports` campaign: each configuration's report is the one `sinsbench report` writes
+/// (summary byte for byte), the campaign's summary gathers them, and two reports of one name
+/// are refused at planning.
+#[test]
+fn a_reports_campaign_writes_the_reports_report_writes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let exp = common::short_calibration_experiment(tmp.path());
+    common::simulate_into(&exp, &tmp.path().join("data"));
+    let imu = experiments().join("imu");
+    let config = |name: &str, compensated: &str| {
+        let p = tmp.path().join(format!("{name}.toml"));
+        std::fs::write(
+            &p,
+            format!(
+                "schema = 1\nname = \"{name}\"\n\
+                 [[parameter_set]]\nkey = \"none\"\nfile = \"{}\"\n\
+                 [[parameter_set]]\nkey = \"set\"\nfile = \"{}\"\n\
+                 [navigation]\ndataset = [{{ name = \"cal\", path = \"data/cal1.parquet\" }}]\n\
+                 [comparison]\nbaseline = \"none\"\ncompensated = \"set\"\n",
+                imu.join("ideal.toml").display(),
+                imu.join(compensated).display()
+            ),
+        )
+        .unwrap();
+        p
+    };
+    let (a1, a2) = (
+        config("truth", "paper_table1.toml"),
+        config("other", "paper_truth.toml"),
+    );
+    let cfg = tmp.path().join("reports.toml");
+    let list = |x: &Path, y: &Path| {
+        format!(
+            "schema = 1\nname = \"two\"\nkind = \"reports\"\n[reports]\nconfigs = [\"{}\", \"{}\"]\n",
+            x.display(),
+            y.display()
+        )
+    };
+    std::fs::write(&cfg, list(&a1, &a2)).unwrap();
+    let out = tmp.path().join("campaign");
+    ok(&a(&[
+        "campaign",
+        "local",
+        &s(&cfg),
+        "--out",
+        &s(&out),
+        "--threads",
+        "2",
+    ]));
+    let reports = tmp.path().join("reports");
+    for (name, path) in [("truth", &a1), ("other", &a2)] {
+        ok(&a(&[
+            "report",
+            "--config",
+            &s(path),
+            "--reports-dir",
+            &s(&reports),
+        ]));
+        assert_eq!(
+            std::fs::read(out.join("reports").join(name).join("summary.json")).unwrap(),
+            std::fs::read(reports.join(name).join("summary.json")).unwrap(),
+            "{name}"
+        );
+    }
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["reports"][1]["name"], "other");
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        md.contains("| truth | cal | set |") && md.contains("| other | cal | none |"),
+        "{md}"
+    );
+    let dup = tmp.path().join("dup.toml");
+    std::fs::write(&dup, list(&a1, &a1)).unwrap();
+    refused(
+        &a(&[
+            "campaign",
+            "plan",
+            &s(&dup),
+            "--out",
+            &s(&tmp.path().join("d")),
+        ]),
+        "every report of a campaign needs its own name",
+    );
+}
