@@ -4,10 +4,11 @@
 
 use crate::baseline::{LsStudy, stable_chamber_degc};
 use crate::error::StudyError;
-use crate::montecarlo::{SeedOutcome, Table1Study, mc_seeds};
+use crate::montecarlo::{SeedOutcome, Table1Study};
 use crate::parallel::map_indexed;
-use crate::reference::{TABLE1_FILE, TABLE3_FILE, load_table1, load_table3};
+use crate::reference::{TABLE3_FILE, load_table3};
 use crate::run::{CalibrationRun, calibrate_scenario, config_for_scenario, truncate_motion};
+use crate::table1mc::Table1MonteCarlo;
 use crate::table3::Table3Study;
 use crate::thirty::ThirtyStateStudy;
 use serde::Serialize;
@@ -166,17 +167,17 @@ fn hours(sc: &Scenario) -> f64 {
 /// Run the study.
 pub fn run_study(cfg: &StudyConfig) -> Result<Study, StudyError> {
     let started = Instant::now();
-    if cfg.seeds == 0 {
-        return Err(StudyError::Setup(
-            "the Monte Carlo needs at least one seed".into(),
-        ));
-    }
-    let table1 = load_table1(cfg.reference_dir.join(TABLE1_FILE))?;
+    let mc = Table1MonteCarlo::load(
+        &cfg.table1_experiment,
+        &cfg.reference_dir,
+        cfg.seeds,
+        None,
+        cfg.max_duration_s,
+    )?;
     let table3 = load_table3(cfg.reference_dir.join(TABLE3_FILE))?;
-    let (t1_name, t1) = scenarios(&cfg.table1_experiment, cfg.max_duration_s)?;
     let (tr_name, tr) = scenarios(&cfg.truth_experiment, cfg.max_duration_s)?;
     let (ls_name, ls) = scenarios(&cfg.ls_experiment, cfg.max_duration_s)?;
-    let base = first(&t1_name, &t1)?;
+    let base = mc.base().clone();
     let proposed_sc = first(&tr_name, &tr)?;
     for sc in &ls {
         stable_chamber_degc(sc)?;
@@ -187,18 +188,13 @@ pub fn run_study(cfg: &StudyConfig) -> Result<Study, StudyError> {
             )));
         }
     }
-    let seeds = mc_seeds(base.seed, cfg.seeds);
     let mut jobs: Vec<Job> = (1..cfg.seeds).map(Job::Mc).collect();
     jobs.push(Job::NoiseFree);
     jobs.push(Job::Thirty);
     jobs.extend((0..ls.len()).map(Job::Ls));
     jobs.push(Job::Proposed);
     let run = |sc: &Scenario, model| calibrate_scenario(sc, config_for_scenario(sc, model));
-    let mc_run = |i: usize| {
-        let mut sc = base.clone();
-        sc.seed = seeds[i];
-        run(&sc, ParamModel::States42)
-    };
+    let mc_run = |i: usize| mc.seed_run(i);
     // Seed 1 alone first: its wall time is one calibration without a concurrent worker.
     let first_run = mc_run(0)?;
     let results = map_indexed(jobs.len(), cfg.threads, |i| match jobs[i] {
@@ -228,7 +224,7 @@ pub fn run_study(cfg: &StudyConfig) -> Result<Study, StudyError> {
     };
     let per_seed: Vec<SeedOutcome> = mc_runs
         .iter()
-        .zip(&seeds)
+        .zip(mc.seeds())
         .map(|(r, s)| SeedOutcome::new(*s, r, &base.truth))
         .collect();
     let m0 = &mc_runs[0];
@@ -255,12 +251,12 @@ pub fn run_study(cfg: &StudyConfig) -> Result<Study, StudyError> {
         max_duration_s: cfg.max_duration_s,
     };
     let table1_study = Table1Study::new(
-        format!("{t1_name} / {}", base.name),
+        mc.experiment().to_string(),
         per_seed,
         m0,
         &noise_free_run,
         &base.truth,
-        &table1,
+        mc.table1(),
     );
     let thirty = ThirtyStateStudy::new(base.seed, &thirty_run, m0, &base.truth);
     let calibrated_h: f64 = ls.iter().map(hours).sum();

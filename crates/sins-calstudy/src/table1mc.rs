@@ -65,6 +65,33 @@ impl Table1MonteCarlo {
         &self.seeds
     }
 
+    /// The calibrated run (its motion cut when asked), with the run's own seed.
+    pub fn base(&self) -> &Scenario {
+        &self.base
+    }
+
+    /// `experiment / run`, as Table 1's study names it.
+    pub fn experiment(&self) -> &str {
+        &self.experiment
+    }
+
+    /// The paper's Table 1.
+    pub fn table1(&self) -> &Table1 {
+        &self.table1
+    }
+
+    /// The 42-state calibration of Monte Carlo seed number `k` (`k < seeds`).
+    pub fn seed_run(&self, k: usize) -> Result<CalibrationRun, StudyError> {
+        let mut sc = self.base.clone();
+        sc.seed = *self.seeds.get(k).ok_or_else(|| {
+            StudyError::Setup(format!(
+                "seed number {k} is out of range: the Monte Carlo has {} seeds",
+                self.seeds.len()
+            ))
+        })?;
+        calibrate_scenario(&sc, config_for_scenario(&sc, ParamModel::States42))
+    }
+
     /// Everything a job's result depends on, as text (for a campaign's manifest hash).
     pub fn fingerprint(&self) -> String {
         format!("{:?}\n{:?}\n{:?}", self.base, self.seeds, self.table1)
@@ -73,12 +100,11 @@ impl Table1MonteCarlo {
     /// Runs job `k`: seed `k`'s calibration, or (k = seeds) the noise-free run.
     pub fn run_job(&self, k: usize) -> Result<McRunOutcome, StudyError> {
         match self.seeds.get(k) {
-            Some(&seed) => {
-                let mut sc = self.base.clone();
-                sc.seed = seed;
-                let run = calibrate_scenario(&sc, config_for_scenario(&sc, ParamModel::States42))?;
-                Ok(McRunOutcome::new(seed, &run, &self.base.truth))
-            }
+            Some(&seed) => Ok(McRunOutcome::new(
+                seed,
+                &self.seed_run(k)?,
+                &self.base.truth,
+            )),
             None if k == self.seeds.len() => {
                 let run = noise_free_run(&self.base)?;
                 Ok(McRunOutcome::new(self.base.seed, &run, &self.base.truth))

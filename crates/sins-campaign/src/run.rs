@@ -97,7 +97,7 @@ pub fn plan(cfg: &Path, out: &Path, ctx: &Context) -> Result<(Manifest, bool), C
             "exists and is not a directory; choose another --out".into(),
         ));
     }
-    let work = load_work(&campaign, out)?;
+    let work = load_work(&campaign)?;
     let jobs = work.jobs();
     if jobs == 0 {
         return Err(CampaignError::Spec {
@@ -156,7 +156,7 @@ pub fn open(dir: &Path, ctx: &Context) -> Result<Opened, CampaignError> {
     let copy = dir.join("campaign.toml");
     let text = std::fs::read_to_string(&copy).map_err(|e| CampaignError::io(&copy, e))?;
     let campaign = parse_campaign(&text, &manifest.source, &manifest.experiments_dir)?;
-    let work = load_work(&campaign, dir)?;
+    let work = load_work(&campaign)?;
     manifest.check(dir, &config_sha256(&text, &work.fingerprint()), &ctx.binary)?;
     if work.jobs() != manifest.jobs {
         return Err(CampaignError::Manifest {
@@ -174,6 +174,32 @@ pub fn open(dir: &Path, ctx: &Context) -> Result<Opened, CampaignError> {
         work,
         dir: dir.to_owned(),
     })
+}
+
+fn missing(dir: &Path, shards: usize) -> Vec<usize> {
+    (0..shards)
+        .filter(|s| !shard_path(dir, *s).exists())
+        .collect()
+}
+
+fn failed(dir: &Path, shards: usize) -> Vec<(usize, String)> {
+    (0..shards)
+        .filter_map(|s| {
+            std::fs::read_to_string(failed_path(dir, s))
+                .ok()
+                .map(|t| (s, t.trim().to_owned()))
+        })
+        .collect()
+}
+
+/// How far a planned campaign is, from its files alone: the manifest (its own hash checked),
+/// the shards without a result and those whose last attempt failed. Neither the build nor the
+/// inputs are checked (that is `open`'s job before anything runs), so a scheduler can poll it
+/// cheaply: no executable to hash, no experiment to load.
+pub fn status(dir: &Path) -> Result<(Manifest, Vec<usize>, Vec<(usize, String)>), CampaignError> {
+    let manifest = Manifest::read(dir)?;
+    let shards = manifest.shards;
+    Ok((manifest, missing(dir, shards), failed(dir, shards)))
 }
 
 fn hostname() -> String {
@@ -283,20 +309,12 @@ impl Opened {
 
     /// Shards without a result, in order.
     pub fn missing(&self) -> Vec<usize> {
-        (0..self.manifest.shards)
-            .filter(|s| !shard_path(&self.dir, *s).exists())
-            .collect()
+        missing(&self.dir, self.manifest.shards)
     }
 
     /// Shards whose last attempt failed, with the note it left.
     pub fn failed(&self) -> Vec<(usize, String)> {
-        (0..self.manifest.shards)
-            .filter_map(|s| {
-                std::fs::read_to_string(failed_path(&self.dir, s))
-                    .ok()
-                    .map(|t| (s, t.trim().to_owned()))
-            })
-            .collect()
+        failed(&self.dir, self.manifest.shards)
     }
 
     /// Merges every shard's result into `summary.json` and `report.md` (and the kind's

@@ -33,10 +33,10 @@ pub trait Work: Sync {
     ) -> Result<Vec<String>, CampaignError>;
 }
 
-/// The work of a campaign run in directory `dir`.
-pub fn load_work(campaign: &Campaign, dir: &Path) -> Result<Box<dyn Work>, CampaignError> {
+/// The work of a campaign.
+pub fn load_work(campaign: &Campaign) -> Result<Box<dyn Work>, CampaignError> {
     Ok(match &campaign.kind {
-        Kind::Blind { .. } => Box::new(crate::kinds::blind::BlindWork::new(campaign, dir)?),
+        Kind::Blind { .. } => Box::new(crate::kinds::blind::BlindWork::new(campaign)?),
         Kind::CalibrationMc { .. } => Box::new(crate::kinds::calmc::CalMcWork::new(campaign)?),
         Kind::ReplicaUq { .. } => Box::new(crate::kinds::uq::UqWork::new(campaign)?),
         Kind::Reports { .. } => Box::new(crate::kinds::reports::ReportsWork::new(campaign)?),

@@ -78,14 +78,14 @@ fn context() -> Result<Context> {
 
 /// Run `campaign`.
 pub fn run(args: Args, quiet: bool) -> Result<()> {
-    let ctx = context()?;
+    // `status` needs no context: it reads the files only (no executable to hash).
     match args.step {
-        Step::Plan { config, out } => plan(&config, &out, &ctx).map(|_| ()),
+        Step::Plan { config, out } => plan(&config, &out, &context()?),
         Step::Shard { dir, index } => {
             // No sweep of DIR/shards here: shards of other nodes write there at the same time, and
             // whether their process lives can only be told on their own node. A temporary left
             // by a SIGKILLed shard is a hidden file the reduce never reads.
-            let opened = sins_campaign::open(&dir, &ctx)?;
+            let opened = sins_campaign::open(&dir, &context()?)?;
             let label = opened
                 .manifest
                 .shard_jobs(index)
@@ -99,15 +99,13 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         }
         Step::Reduce { dir } => {
             crate::outputs::sweep(&dir);
-            reduce(&sins_campaign::open(&dir, &ctx)?, &dir)
+            reduce(&sins_campaign::open(&dir, &context()?)?, &dir)
         }
         Step::Status { dir, missing } => {
-            let opened = sins_campaign::open(&dir, &ctx)?;
-            let todo = opened.missing();
+            let (m, todo, failed) = sins_campaign::status(&dir)?;
             if missing {
                 return say!("{}", array_syntax(&todo));
             }
-            let m = &opened.manifest;
             say!(
                 "campaign '{}' ({}): {} jobs in {} shards of {}; {} done, {} missing{}",
                 m.campaign,
@@ -123,7 +121,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                     format!(" ({})", array_syntax(&todo))
                 }
             )?;
-            for (s, note) in opened.failed() {
+            for (s, note) in failed {
                 say!("shard {s} failed last time: {note}")?;
             }
             Ok(())
@@ -133,6 +131,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             out,
             threads,
         } => {
+            let ctx = context()?;
             plan(&config, &out, &ctx)?;
             let opened = sins_campaign::open(&out, &ctx)?;
             let left: usize = opened

@@ -7,17 +7,20 @@ use crate::spec::{Campaign, Kind};
 use crate::work::{Quiet, Work, from_values, job_error, pretty, to_value, write_text};
 use serde::Serialize;
 use sins_diag::input::DiagnoseConfig;
+use sins_diag::noise::NoiseSpec;
 use sins_diag::report::Diagnosis;
 use sins_gap::blind::grade::Grades;
 use sins_gap::blind::plan::{CaseAnswer, SuiteShape, draw_cases};
 use sins_gap::blind::seal::{SealIndex, sealed_dir};
 use sins_gap::blind::suite::{SuiteConfig, grade_suite, run_case, seal_suite, twin_noise};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The blind suite as campaign work.
 pub struct BlindWork {
+    /// The suite; its `out` is set to the campaign directory of each call ([`Self::suite`]).
     cfg: SuiteConfig,
     answers: Vec<CaseAnswer>,
+    noise: NoiseSpec,
     fingerprint: String,
 }
 
@@ -30,8 +33,8 @@ struct BlindSummary<'a> {
 }
 
 impl BlindWork {
-    /// The suite of a `blind` campaign run in `dir` (its sealed answers, case directories).
-    pub fn new(c: &Campaign, dir: &Path) -> Result<Self, CampaignError> {
+    /// The suite of a `blind` campaign.
+    pub fn new(c: &Campaign) -> Result<Self, CampaignError> {
         let Kind::Blind {
             cases,
             null,
@@ -44,7 +47,7 @@ impl BlindWork {
             return Err(job_error(0, "not a blind campaign"));
         };
         let cfg = SuiteConfig {
-            out: dir.to_owned(),
+            out: PathBuf::new(),
             suite_seed: c.seed.unwrap_or(1),
             shape: SuiteShape {
                 cases: *cases,
@@ -69,15 +72,25 @@ impl BlindWork {
             load(&cfg.navigation_experiment)?
         );
         let answers = draw_cases(&cfg.shape, cfg.suite_seed);
+        let noise = twin_noise(&cfg).map_err(|e| job_error(0, e))?;
         Ok(Self {
             cfg,
             answers,
+            noise,
             fingerprint,
         })
     }
 
-    fn read_index(&self) -> Result<SealIndex, CampaignError> {
-        let path = sealed_dir(&self.cfg.out).join("index.json");
+    /// The suite run in campaign directory `dir` (sealed answers, case directories).
+    fn suite(&self, dir: &Path) -> SuiteConfig {
+        SuiteConfig {
+            out: dir.to_owned(),
+            ..self.cfg.clone()
+        }
+    }
+
+    fn read_index(dir: &Path) -> Result<SealIndex, CampaignError> {
+        let path = sealed_dir(dir).join("index.json");
         let text = std::fs::read_to_string(&path).map_err(|e| CampaignError::io(&path, e))?;
         serde_json::from_str(&text).map_err(|e| CampaignError::Manifest {
             path,
@@ -93,8 +106,8 @@ impl Work for BlindWork {
     fn fingerprint(&self) -> String {
         self.fingerprint.clone()
     }
-    fn prepare(&self, _dir: &Path) -> Result<(), CampaignError> {
-        seal_suite(&self.cfg).map_err(|e| job_error(0, e))?;
+    fn prepare(&self, dir: &Path) -> Result<(), CampaignError> {
+        seal_suite(&self.suite(dir)).map_err(|e| job_error(0, e))?;
         Ok(())
     }
     fn job_label(&self, job: usize) -> String {
@@ -102,14 +115,13 @@ impl Work for BlindWork {
             .get(job)
             .map_or_else(String::new, |a| a.case.clone())
     }
-    fn run_job(&self, job: usize, _dir: &Path) -> Result<serde_json::Value, CampaignError> {
+    fn run_job(&self, job: usize, dir: &Path) -> Result<serde_json::Value, CampaignError> {
         let answer = self
             .answers
             .get(job)
             .ok_or_else(|| job_error(job, "out of range"))?;
-        let noise = twin_noise(&self.cfg).map_err(|e| job_error(job, e))?;
-        let (mut diagnosis, _) =
-            run_case(&self.cfg, answer, noise, &mut Quiet).map_err(|e| job_error(job, e))?;
+        let (mut diagnosis, _) = run_case(&self.suite(dir), answer, self.noise, &mut Quiet)
+            .map_err(|e| job_error(job, e))?;
         // The plots' series stay in the case's own diagnosis directory; grading needs none.
         diagnosis.series.clear();
         to_value(job, &diagnosis)
@@ -120,7 +132,7 @@ impl Work for BlindWork {
         dir: &Path,
     ) -> Result<Vec<String>, CampaignError> {
         let diagnoses: Vec<Diagnosis> = from_values(outcomes)?;
-        let index = self.read_index()?;
+        let index = Self::read_index(dir)?;
         let named = self
             .answers
             .iter()
@@ -128,7 +140,7 @@ impl Work for BlindWork {
             .zip(diagnoses)
             .collect();
         let (grades, markdown) =
-            grade_suite(&self.cfg, &index, named).map_err(|e| job_error(0, e))?;
+            grade_suite(&self.suite(dir), &index, named).map_err(|e| job_error(0, e))?;
         let summary = BlindSummary {
             suite_seed: index.suite_seed,
             suite_sha256: &index.suite_sha256,

@@ -41,6 +41,13 @@ pub struct SuiteConfig {
     pub diagnose: DiagnoseConfig,
 }
 
+impl SuiteConfig {
+    /// Whether `case` is run: every case, or only those named in [`SuiteConfig::only`].
+    pub fn selects(&self, case: &str) -> bool {
+        self.only.is_empty() || self.only.iter().any(|c| c == case)
+    }
+}
+
 /// Per-case progress and timing.
 #[derive(Clone, Debug)]
 pub struct CaseTiming {
@@ -217,10 +224,9 @@ pub fn grade_suite(
     index: &SealIndex,
     diagnoses: Vec<(String, Diagnosis)>,
 ) -> Result<(Grades, String), GapError> {
-    let selected = |case: &str| cfg.only.is_empty() || cfg.only.iter().any(|c| c == case);
     let opened: Vec<CaseAnswer> = open(&cfg.out, index)?
         .into_iter()
-        .filter(|a| selected(&a.case))
+        .filter(|a| cfg.selects(&a.case))
         .collect();
     if opened.len() != diagnoses.len()
         || opened
@@ -261,10 +267,9 @@ pub fn timing_markdown(timing: &[CaseTiming]) -> String {
 pub fn run_suite(cfg: &SuiteConfig, progress: &mut dyn Progress) -> Result<SuiteResult, GapError> {
     let sealed = seal_suite(cfg)?;
     let noise = twin_noise(cfg)?;
-    let selected = |case: &str| cfg.only.is_empty() || cfg.only.iter().any(|c| c == case);
     let mut diagnoses: Vec<(String, Diagnosis)> = Vec::new();
     let mut timing = Vec::new();
-    for answer in sealed.answers.iter().filter(|a| selected(&a.case)) {
+    for answer in sealed.answers.iter().filter(|a| cfg.selects(&a.case)) {
         let (diagnosis, t) = run_case(cfg, answer, noise, progress)?;
         timing.push(t);
         diagnoses.push((answer.case.clone(), diagnosis));
