@@ -25,5 +25,5 @@ pub mod work;
 
 pub use error::CampaignError;
 pub use manifest::{BinaryId, Manifest, array_syntax};
-pub use run::{Context, Opened, ShardRun, failed_path, open, plan, shard_path, status};
+pub use run::{Context, Opened, ShardRun, Status, failed_path, open, plan, shard_path, status};
 pub use spec::{Campaign, Kind, load_campaign, parse_campaign};

@@ -196,10 +196,25 @@ fn failed(dir: &Path, shards: usize) -> Vec<(usize, String)> {
 /// the shards without a result and those whose last attempt failed. Neither the build nor the
 /// inputs are checked (that is `open`'s job before anything runs), so a scheduler can poll it
 /// cheaply: no executable to hash, no experiment to load.
-pub fn status(dir: &Path) -> Result<(Manifest, Vec<usize>, Vec<(usize, String)>), CampaignError> {
+pub fn status(dir: &Path) -> Result<Status, CampaignError> {
     let manifest = Manifest::read(dir)?;
     let shards = manifest.shards;
-    Ok((manifest, missing(dir, shards), failed(dir, shards)))
+    Ok(Status {
+        missing: missing(dir, shards),
+        failed: failed(dir, shards),
+        manifest,
+    })
+}
+
+/// What [`status`] finds.
+#[derive(Clone, Debug)]
+pub struct Status {
+    /// The manifest.
+    pub manifest: Manifest,
+    /// Shards without a result, in order.
+    pub missing: Vec<usize>,
+    /// Shards whose last attempt failed, with the note it left.
+    pub failed: Vec<(usize, String)>,
 }
 
 fn hostname() -> String {

@@ -102,7 +102,11 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             reduce(&sins_campaign::open(&dir, &context()?)?, &dir)
         }
         Step::Status { dir, missing } => {
-            let (m, todo, failed) = sins_campaign::status(&dir)?;
+            let sins_campaign::Status {
+                manifest: m,
+                missing: todo,
+                failed,
+            } = sins_campaign::status(&dir)?;
             if missing {
                 return say!("{}", array_syntax(&todo));
             }
