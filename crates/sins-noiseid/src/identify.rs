@@ -1,0 +1,427 @@
+//! The entry point: read the runs' stationary stretches, pool their Allan variances, fit the
+//! twin's noise terms.
+
+use crate::accumulate::{Accumulator, CHANNELS, StretchStats};
+use crate::allan::{PooledTau, chi2_interval};
+use crate::config::NoiseIdConfig;
+use crate::error::NoiseIdError;
+use crate::fit::{FitData, Point, ProfiledFit, fit_profiled};
+use crate::model::{TERMS, Term};
+use crate::quant::ramp_quantization_avar;
+use crate::result::{
+    AllanCurve, Estimate, IdentifiedNoise, RunUsage, SensorNoise, StretchReport, instability_of,
+};
+use sins_diag::source::SampleSource;
+use sins_nav::alignment::coarse_align;
+use sins_nav::earth::{earth_rate_ned_radps, normal_gravity_mps2};
+use sins_nav::{Geodetic, Vec3};
+
+/// One run's input: its samples, segment labels and site.
+pub struct RunStationary<'a> {
+    /// Run name (for messages and the per-run figures).
+    pub name: String,
+    /// The raw samples (read once, in batches).
+    pub source: &'a mut dyn SampleSource,
+    /// The run's segment labels (the source's segment indices point into this list).
+    pub segment_labels: Vec<String>,
+    /// The turntable site (for the Earth-rate and gravity check of each stretch).
+    pub site: Geodetic,
+}
+
+/// The Gauss-Markov correlation-time grid ends at this multiple of the longest `τ` fitted.
+pub const CORRELATION_CAP: f64 = 4.0;
+
+const CHANNEL_NAMES: [&str; CHANNELS] = [
+    "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z",
+];
+
+/// Identify the sensor noise from the stationary stretches of `runs` (one pass over each run).
+///
+/// Stationary stretches are the contiguous samples whose segment label is in
+/// [`NoiseIdConfig::labels`]. The Allan variance needs no removal of the Earth rate and
+/// gravity: a constant rate cancels exactly in its second differences (each stretch's first
+/// sample is subtracted only for numerical conditioning). Each stretch's mean is instead
+/// compared with the Earth rate and gravity at the site in the stretch's own TRIAD attitude
+/// ([`StretchReport`]). Results are bit-identical for the same input.
+pub fn identify_noise(
+    runs: &mut [RunStationary<'_>],
+    cfg: &NoiseIdConfig,
+) -> Result<IdentifiedNoise, NoiseIdError> {
+    cfg.validate()?;
+    let Some(first) = runs.first() else {
+        return Err(NoiseIdError::NotEnoughData("no run given".into()));
+    };
+    let h_s = first.source.sample_interval_s();
+    for r in runs.iter() {
+        let h = r.source.sample_interval_s();
+        if !(h > 0.0 && h.is_finite()) || (h / h_s - 1.0).abs() > 1e-9 {
+            return Err(NoiseIdError::Run {
+                run: r.name.clone(),
+                reason: format!(
+                    "sample interval {h} s differs from the first run's {h_s} s (pooled Allan variances need one rate)"
+                ),
+            });
+        }
+    }
+    let mut acc = Accumulator::new(h_s, cfg.min_stretch_s);
+    for (i, r) in runs.iter_mut().enumerate() {
+        let keep: Vec<bool> = r
+            .segment_labels
+            .iter()
+            .map(|l| cfg.labels.iter().any(|k| k == l))
+            .collect();
+        r.source.visit(&mut |samples, segs| {
+            for (s, g) in samples.iter().zip(segs) {
+                acc.push(i, s, keep.get(usize::from(*g)).copied().unwrap_or(false));
+            }
+            Ok(())
+        })?;
+        acc.close();
+    }
+    if acc.stretches.is_empty() {
+        return Err(NoiseIdError::NotEnoughData(format!(
+            "no stretch of at least {} s labelled {} in any run",
+            cfg.min_stretch_s,
+            cfg.labels.join(" or ")
+        )));
+    }
+    let longest_s = acc
+        .stretches
+        .iter()
+        .map(|s| s.samples as f64 * h_s)
+        .fold(0.0, f64::max);
+    let max_tau_s = cfg.max_tau_fraction * longest_s;
+    let taus: Vec<&[PooledTau; CHANNELS]> = acc
+        .pooled
+        .values()
+        .filter(|p| p[0].tau_s <= max_tau_s * (1.0 + 1e-9) && p[0].count > 0)
+        .collect();
+    if taus.len() < 4 {
+        return Err(NoiseIdError::NotEnoughData(format!(
+            "only {} averaging times up to {max_tau_s:.1} s (longest stretch {longest_s:.1} s)",
+            taus.len()
+        )));
+    }
+    // A correlation time beyond a few times the longest averaging time cannot be told from a
+    // rate random walk (σ² and T then trade along K² = 2σ²/T): the profile stops there.
+    let tau_top = taus.last().map_or(0.0, |p| p[0].tau_s);
+    let t_cap = CORRELATION_CAP * tau_top;
+    let mut grid: Vec<f64> = cfg.correlation_grid().into_iter().filter(|&t| t < t_cap).collect();
+    if cfg.correlation_grid_s[1] >= t_cap {
+        grid.push(t_cap);
+    }
+    let ctx = FitContext {
+        taus: &taus,
+        stretches: &acc.stretches,
+        grid,
+        rrw: cfg.fit_rate_random_walk,
+        h_s,
+    };
+    let lattice: Option<[f64; 3]> = match acc.lattice.map(|l| l.quantum()) {
+        [Some(a), Some(b), Some(c)] => Some([a, b, c]),
+        _ => None,
+    };
+    let gyro = ctx.fit_gyro(lattice);
+    let accel = ctx.fit_triad(3, None, [false, true, true, false]);
+    let mut notes = Vec::new();
+    let mut gyro_axes: Vec<SensorNoise> =
+        (0..3).map(|a| gyro.axes[a].summary(lattice.map(|q| q[a]))).collect();
+    let mut accel_axes: Vec<SensorNoise> = (0..3).map(|a| accel.axes[a].summary(None)).collect();
+    let mut gyro_sum = gyro.triad.summary(lattice.map(|q| (q[0] + q[1] + q[2]) / 3.0));
+    let mut accel_sum = accel.triad.summary(None);
+    if ctx.rrw {
+        // The rate random walk from an extended fit (the twin's terms plus K): at the lengths of
+        // these runs it is nearly degenerate with a Gauss-Markov bias of long correlation, so
+        // the twin's terms come from the fit without it.
+        let gyro_offsets: [Vec<f64>; 3] = std::array::from_fn(|a| gyro.axes[a].offsets.clone());
+        let with = |on: [bool; 4]| [on[0], true, true, true];
+        let g = ctx.fit_triad(0, lattice.map(|_| &gyro_offsets), with(gyro.triad.enabled));
+        let a = ctx.fit_triad(3, None, with(accel.triad.enabled));
+        for (fits, sum, axes) in [(&g, &mut gyro_sum, &mut gyro_axes), (&a, &mut accel_sum, &mut accel_axes)] {
+            sum.rate_random_walk_per_sqrt_s = fits.triad.summary(None).rate_random_walk_per_sqrt_s;
+            for (k, ax) in axes.iter_mut().enumerate() {
+                ax.rate_random_walk_per_sqrt_s = fits.axes[k].summary(None).rate_random_walk_per_sqrt_s;
+            }
+        }
+    }
+    for (name, s) in [("gyro", &gyro_sum), ("accelerometer", &accel_sum)] {
+        if s.bias_sigma.value > 0.0 && !s.bias_correlation_s.sigma.is_finite() {
+            notes.push(format!(
+                "{name} Gauss-Markov correlation time not identified: the profile has no interior minimum between {:.0} s and {:.0} s ({CORRELATION_CAP} x the longest tau); {:.0} s is used, and only K^2 = 2 sigma^2/T is determined (a longer true correlation time gives a larger sigma)",
+                cfg.correlation_grid_s[0], t_cap.min(cfg.correlation_grid_s[1]), s.bias_correlation_s.value
+            ));
+        }
+        if s.bias_sigma.value == 0.0 {
+            notes.push(format!("{name} Gauss-Markov bias not above zero; 95 % upper bound of sigma given"));
+        }
+    }
+    let mut curves = Vec::new();
+    for c in 0..CHANNELS {
+        let (set, a) = if c < 3 { (&gyro, c) } else { (&accel, c - 3) };
+        curves.push(ctx.curve(c, &set.axes[a], &set.triad, a, cfg.coverage));
+    }
+    let runs_out = runs
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let used: Vec<&StretchStats> = acc.stretches.iter().filter(|s| s.run == i).collect();
+            RunUsage {
+                name: r.name.clone(),
+                stationary_s: used.iter().map(|s| s.samples as f64 * h_s).sum(),
+                stretches: used.len(),
+                skipped: acc.skipped.iter().filter(|s| s.0 == i).count(),
+            }
+        })
+        .collect();
+    let stretches = acc
+        .stretches
+        .iter()
+        .map(|s| stretch_report(s, &runs[s.run], h_s))
+        .collect();
+    Ok(IdentifiedNoise {
+        gyro: gyro_sum,
+        accel: accel_sum,
+        gyro_axes,
+        accel_axes,
+        curves,
+        runs: runs_out,
+        stretches,
+        sample_interval_s: h_s,
+        notes,
+    })
+}
+
+fn stretch_report(s: &StretchStats, run: &RunStationary<'_>, h_s: f64) -> StretchReport {
+    let w = Vec3::new(s.mean_rate[0], s.mean_rate[1], s.mean_rate[2]);
+    let f = Vec3::new(s.mean_rate[3], s.mean_rate[4], s.mean_rate[5]);
+    let (gyro, accel) = match coarse_align(&f, &w) {
+        Ok(q) => {
+            let inv = q.inverse();
+            let lat = run.site.lat_rad;
+            let wp = inv * earth_rate_ned_radps(lat);
+            let fp = inv * Vec3::new(0.0, 0.0, -normal_gravity_mps2(lat, run.site.height_m));
+            let d = |a: Vec3, b: Vec3| [a.x - b.x, a.y - b.y, a.z - b.z];
+            (Some(d(w, wp)), Some(d(f, fp)))
+        }
+        Err(_) => (None, None),
+    };
+    StretchReport {
+        run: run.name.clone(),
+        start_s: s.start_s,
+        duration_s: s.samples as f64 * h_s,
+        gyro_residual_radps: gyro,
+        accel_residual_mps2: accel,
+    }
+}
+
+/// A fit of one axis or a triad, with the offsets it used.
+struct Fitted {
+    fit: ProfiledFit,
+    offsets: Vec<f64>,
+    enabled: [bool; 4],
+}
+
+struct TriadFits {
+    triad: Fitted,
+    axes: Vec<Fitted>,
+}
+
+struct FitContext<'a> {
+    taus: &'a [&'a [PooledTau; CHANNELS]],
+    stretches: &'a [StretchStats],
+    grid: Vec<f64>,
+    rrw: bool,
+    h_s: f64,
+}
+
+impl FitContext<'_> {
+    fn points(&self, channel: usize, offsets: &[f64], block: usize) -> Vec<Point<'_>> {
+        self.taus
+            .iter()
+            .zip(offsets)
+            .filter_map(|(p, &off)| {
+                let pt = &p[channel];
+                pt.avar().map(|avar| Point {
+                    tau_s: pt.tau_s,
+                    avar,
+                    offset: off,
+                    block,
+                    pooled: pt,
+                })
+            })
+            .collect()
+    }
+
+    /// Fit the triad starting at `channel0` jointly and each axis alone; `quantum_offsets`
+    /// computes a known offset per axis and `τ` from the current triad fit.
+    fn fit_triad(
+        &self,
+        channel0: usize,
+        offsets: Option<&[Vec<f64>; 3]>,
+        enabled: [bool; 4],
+    ) -> TriadFits {
+        let zero = vec![0.0; self.taus.len()];
+        let off = |a: usize| offsets.map_or(zero.clone(), |o| o[a].clone());
+        let axes = (0..3)
+            .map(|a| {
+                let o = off(a);
+                let data = FitData::new(self.points(channel0 + a, &o, 0), self.h_s);
+                Fitted {
+                    fit: fit_profiled(&data, enabled, &self.grid),
+                    offsets: o,
+                    enabled,
+                }
+            })
+            .collect();
+        let mut all = Vec::new();
+        let mut stacked = Vec::new();
+        for a in 0..3 {
+            let o = off(a);
+            all.extend(self.points(channel0 + a, &o, a));
+            stacked.extend(o);
+        }
+        let data = FitData::new(all, self.h_s);
+        TriadFits {
+            triad: Fitted {
+                fit: fit_profiled(&data, enabled, &self.grid),
+                offsets: stacked,
+                enabled,
+            },
+            axes,
+        }
+    }
+
+    /// The gyro triad: with a detected lattice, the quantization of a gyro at rest is a known
+    /// offset (the ramp model), refined twice with the fitted random walk and bias wander.
+    fn fit_gyro(&self, lattice: Option<[f64; 3]>) -> TriadFits {
+        let Some(q) = lattice else {
+            return self.fit_triad(0, None, [true, true, true, false]);
+        };
+        let enabled = [false, true, true, false];
+        let o = self.ramp_offsets(&q, 0.0, 0.0, 0.0);
+        let mut fits = self.fit_triad(0, Some(&o), enabled);
+        for _ in 0..2 {
+            let th = fits.triad.fit.fit.theta;
+            let o = self.ramp_offsets(&q, th[1].sqrt(), th[2].sqrt(), th[3].sqrt());
+            fits = self.fit_triad(0, Some(&o), enabled);
+        }
+        fits
+    }
+
+    fn ramp_offsets(&self, q: &[f64; 3], arw: f64, bias_sigma: f64, rrw: f64) -> [Vec<f64>; 3] {
+        std::array::from_fn(|a| {
+            self.taus
+                .iter()
+                .map(|p| {
+                    let pt = &p[a];
+                    let (mut num, mut den) = (0.0, 0.0);
+                    for &(idx, n, m) in &pt.stretches {
+                        let Some(s) = self.stretches.get(idx) else { continue };
+                        let t_s = (s.samples as f64 * self.h_s).max(pt.tau_s);
+                        let du = (bias_sigma.powi(2)
+                            + rrw.powi(2) * t_s / 3.0
+                            + q[a].powi(2) / (6.0 * t_s * t_s))
+                            .sqrt();
+                        let w = (n - 2 * m) as f64;
+                        num += w * ramp_quantization_avar(q[a], s.mean_rate[a], pt.tau_s, arw, du);
+                        den += w;
+                    }
+                    if den > 0.0 { num / den } else { 0.0 }
+                })
+                .collect()
+        })
+    }
+
+    fn curve(&self, channel: usize, axis: &Fitted, triad: &Fitted, a: usize, coverage: f64) -> AllanCurve {
+        let n = self.taus.len();
+        let pts = self.points(channel, &axis.offsets, 0);
+        let mut c = AllanCurve {
+            channel: CHANNEL_NAMES[channel].to_string(),
+            tau_s: Vec::with_capacity(n),
+            adev: Vec::with_capacity(n),
+            lo: Vec::with_capacity(n),
+            hi: Vec::with_capacity(n),
+            edf: Vec::with_capacity(n),
+            fit_axis: Vec::with_capacity(n),
+            fit_triad: Vec::with_capacity(n),
+        };
+        let t = axis.fit.correlation_s;
+        for (i, p) in pts.iter().enumerate() {
+            let dom = dominant_term(&axis.fit.fit.theta, p.tau_s, t, p.offset);
+            let nu = p.pooled.edf(dom.noise_type());
+            let (lo, hi) = chi2_interval(p.avar, nu, coverage);
+            c.tau_s.push(p.tau_s);
+            c.adev.push(p.avar.sqrt());
+            c.lo.push(lo.sqrt());
+            c.hi.push(hi.sqrt());
+            c.edf.push(nu);
+            c.fit_axis.push(axis.fit.fit.model.get(i).copied().unwrap_or(f64::NAN).sqrt());
+            c.fit_triad
+                .push(triad.fit.fit.model.get(a * n + i).copied().unwrap_or(f64::NAN).sqrt());
+        }
+        c
+    }
+}
+
+fn dominant_term(theta: &[f64; 4], tau_s: f64, corr_s: f64, offset: f64) -> Term {
+    let mut best = (Term::Quantization, offset);
+    for (j, t) in TERMS.iter().enumerate() {
+        let v = theta[j] * t.basis(tau_s, corr_s);
+        if v > best.1 {
+            best = (*t, v);
+        }
+    }
+    best.0
+}
+
+impl Fitted {
+    /// Physical terms (square roots of `θ`, 1-sigma by the delta method).
+    fn summary(&self, lattice_quantum: Option<f64>) -> SensorNoise {
+        let f = &self.fit.fit;
+        let root = |j: usize, scale: f64| -> Estimate {
+            let th = f.theta[j];
+            if th > 0.0 {
+                let v = th.sqrt();
+                Estimate {
+                    value: scale * v,
+                    sigma: scale * f.sigma[j] / (2.0 * v),
+                    upper_95: None,
+                }
+            } else {
+                Estimate {
+                    value: 0.0,
+                    sigma: 0.0,
+                    upper_95: f.upper95[j].map(|u| scale * u.max(0.0).sqrt()),
+                }
+            }
+        };
+        let quantum = match lattice_quantum {
+            Some(q) => Estimate::exact(q),
+            None if self.enabled[0] => root(0, 12f64.sqrt()),
+            None => Estimate::exact(0.0),
+        };
+        let bias_sigma = root(2, 1.0);
+        let corr = if bias_sigma.value > 0.0 {
+            Estimate {
+                value: self.fit.correlation_s,
+                sigma: self.fit.correlation_s * self.fit.ln_correlation_sigma,
+                upper_95: None,
+            }
+        } else {
+            Estimate::exact(f64::INFINITY)
+        };
+        let active = (0..4).filter(|&j| f.theta[j] > 0.0).count();
+        SensorNoise {
+            white_per_sqrt_s: root(1, 1.0),
+            quantum,
+            quantum_from_lattice: lattice_quantum.is_some(),
+            bias_sigma,
+            bias_instability: instability_of(bias_sigma),
+            bias_correlation_s: corr,
+            rate_random_walk_per_sqrt_s: if self.enabled[3] { root(3, 1.0) } else { Estimate::exact(0.0) },
+            chi2: f.chi2,
+            points: f.model.len(),
+            parameters: active + usize::from(bias_sigma.value > 0.0),
+        }
+    }
+}

@@ -1,0 +1,177 @@
+//! What an identification returns: the twin's noise terms with their 1-sigma, the Allan curves
+//! and the data used. SI throughout (rad, m/s, s).
+
+use serde::{Deserialize, Serialize};
+use sins_diag::noise::NoiseSpec;
+use sins_sim::NoiseModel;
+use sins_sim::noise::GM_ALLAN_PEAK_RATIO;
+
+/// An identified quantity with its 1-sigma (same unit).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Estimate {
+    /// The value (0 when the term did not fit above zero).
+    pub value: f64,
+    /// Its 1-sigma (infinite when not identified; 0 for an exact value and for a term that
+    /// fitted to zero, whose [`Estimate::upper_95`] is then given).
+    pub sigma: f64,
+    /// One-sided 95 % upper bound when the value is 0 (the term fitted at or below zero).
+    pub upper_95: Option<f64>,
+}
+
+impl Estimate {
+    /// A value known exactly.
+    pub fn exact(value: f64) -> Self {
+        Self {
+            value,
+            sigma: 0.0,
+            upper_95: None,
+        }
+    }
+}
+
+/// The noise terms of one sensor (one axis, or a triad pooled over its three axes). Units:
+/// gyro in rad and rad/s, accelerometer in m/s and m/s².
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SensorNoise {
+    /// White rate noise density: gyro angle random walk (rad/√s), accelerometer velocity random
+    /// walk (m/s/√s).
+    pub white_per_sqrt_s: Estimate,
+    /// Output quantum (rad for a gyro; 0 for an accelerometer): from the lattice of the
+    /// increments when they are quantised (exact), else from the `3Q²/τ²` term (`q = √12 Q`).
+    pub quantum: Estimate,
+    /// Whether the quantum was read off the increments' lattice.
+    pub quantum_from_lattice: bool,
+    /// Gauss-Markov bias: stationary standard deviation (rad/s, m/s²).
+    pub bias_sigma: Estimate,
+    /// The same as an Allan bias-instability figure (the peak of its Allan deviation,
+    /// 0.6174 σ; the experiment file's unit).
+    pub bias_instability: Estimate,
+    /// Gauss-Markov correlation time (s; infinite when the bias is zero).
+    pub bias_correlation_s: Estimate,
+    /// Rate random walk (rad/s/√s, m/s²/√s); not part of the twin, reported only.
+    pub rate_random_walk_per_sqrt_s: Estimate,
+    /// Weighted residual sum of squares of the fit.
+    pub chi2: f64,
+    /// Allan-variance points fitted.
+    pub points: usize,
+    /// Free parameters fitted (the correlation time included).
+    pub parameters: usize,
+}
+
+/// One channel's Allan deviation for plotting (rate units: rad/s, m/s²).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AllanCurve {
+    /// `gyro_x` … `accel_z`.
+    pub channel: String,
+    /// Averaging times (s).
+    pub tau_s: Vec<f64>,
+    /// Overlapping Allan deviation, pooled over stretches and runs.
+    pub adev: Vec<f64>,
+    /// Lower end of its chi-square interval (coverage of the configuration).
+    pub lo: Vec<f64>,
+    /// Upper end.
+    pub hi: Vec<f64>,
+    /// Equivalent degrees of freedom of each point.
+    pub edf: Vec<f64>,
+    /// The axis' own fitted model.
+    pub fit_axis: Vec<f64>,
+    /// The triad's pooled model at this axis (its quantization offset included).
+    pub fit_triad: Vec<f64>,
+}
+
+/// How much stationary data a run gave.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunUsage {
+    /// Run name.
+    pub name: String,
+    /// Stationary time used (s).
+    pub stationary_s: f64,
+    /// Stretches used.
+    pub stretches: usize,
+    /// Stretches too short to use.
+    pub skipped: usize,
+}
+
+/// A stationary stretch: its mean rates against the Earth rate and gravity at the site in the
+/// stretch's own TRIAD attitude (their difference is the observable part of the turn-on bias:
+/// the component of the accelerometer mean along gravity, and the gyro mean's vertical and
+/// north components; the level accelerometer and east gyro components are zero by
+/// construction of the alignment).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StretchReport {
+    /// Run name.
+    pub run: String,
+    /// Start (s, the run's time).
+    pub start_s: f64,
+    /// Length (s).
+    pub duration_s: f64,
+    /// Mean gyro rate minus the Earth rate in body axes (rad/s); `None` if the TRIAD failed.
+    pub gyro_residual_radps: Option<[f64; 3]>,
+    /// Mean specific force minus `−g` in body axes (m/s²).
+    pub accel_residual_mps2: Option<[f64; 3]>,
+}
+
+/// The identified noise of the IMU.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct IdentifiedNoise {
+    /// Gyro triad, pooled over the three axes (the twin's isotropic model).
+    pub gyro: SensorNoise,
+    /// Accelerometer triad, pooled.
+    pub accel: SensorNoise,
+    /// Gyro x, y, z fitted alone.
+    pub gyro_axes: Vec<SensorNoise>,
+    /// Accelerometer x, y, z fitted alone.
+    pub accel_axes: Vec<SensorNoise>,
+    /// Allan deviations of the six channels.
+    pub curves: Vec<AllanCurve>,
+    /// Data used per run.
+    pub runs: Vec<RunUsage>,
+    /// The stretches used.
+    pub stretches: Vec<StretchReport>,
+    /// Sample interval of the data (s).
+    pub sample_interval_s: f64,
+    /// Remarks (e.g. a term not identified).
+    pub notes: Vec<String>,
+}
+
+impl IdentifiedNoise {
+    /// The twin's noise model (the rate random walk, which the twin lacks, is left out).
+    pub fn to_noise_model(&self) -> NoiseModel {
+        let corr = |s: &SensorNoise| {
+            if s.bias_sigma.value > 0.0 {
+                s.bias_correlation_s.value
+            } else {
+                f64::INFINITY
+            }
+        };
+        NoiseModel {
+            gyro_arw_rad_per_sqrt_s: self.gyro.white_per_sqrt_s.value,
+            gyro_bias_instability_radps: self.gyro.bias_sigma.value,
+            gyro_bias_correlation_s: corr(&self.gyro),
+            gyro_quantum_rad: self.gyro.quantum.value,
+            accel_vrw_mps_per_sqrt_s: self.accel.white_per_sqrt_s.value,
+            accel_bias_instability_mps2: self.accel.bias_sigma.value,
+            accel_bias_correlation_s: corr(&self.accel),
+        }
+    }
+
+    /// The diagnosis's noise specification (quantization factor at its default,
+    /// [`sins_diag::noise::DEFAULT_QUANTUM_FACTOR`]).
+    pub fn to_noise_spec(&self) -> NoiseSpec {
+        NoiseSpec::from(&self.to_noise_model())
+    }
+
+    /// Total stationary time used over all runs (s).
+    pub fn stationary_s(&self) -> f64 {
+        self.runs.iter().map(|r| r.stationary_s).sum()
+    }
+}
+
+/// Bias-instability figure (Allan peak) of a Gauss-Markov σ.
+pub(crate) fn instability_of(sigma: Estimate) -> Estimate {
+    Estimate {
+        value: sigma.value * GM_ALLAN_PEAK_RATIO,
+        sigma: sigma.sigma * GM_ALLAN_PEAK_RATIO,
+        upper_95: sigma.upper_95.map(|u| u * GM_ALLAN_PEAK_RATIO),
+    }
+}

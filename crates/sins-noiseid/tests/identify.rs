@@ -1,0 +1,221 @@
+//! Identification against known noise. Each identified term must lie within 3 of its own
+//! stated 1-sigma of the truth (or, when it fitted to zero, the truth below its 95 % upper
+//! bound). If the stated sigmas are right, one assertion fails by chance about 0.3 % of the
+//! time for a fresh seed; the seeds here are fixed, so the tests are deterministic.
+
+use sins_diag::DiagError;
+use sins_diag::source::{BatchSink, SampleSource, SimSource};
+use sins_imu::{ForwardModel, ImuErrorParams, ImuSample, ParamModel};
+use sins_nav::{DEG, Euler, Geodetic, Vec3, ned_from_body_euler};
+use sins_noiseid::{Estimate, NoiseIdConfig, RunStationary, identify_noise};
+use sins_sim::noise::gauss_markov_sigma_from_allan;
+use sins_sim::{
+    ChamberSegment, GaussMarkov, GaussianStream, MotionProgram, MotionSegment, NoiseModel,
+    Scenario, Simulator, ThermalModel,
+};
+
+fn within(name: &str, est: &Estimate, truth: f64, k: f64) {
+    if est.value == 0.0 {
+        let ub = est.upper_95.unwrap_or(0.0);
+        assert!(truth <= ub, "{name}: fitted 0, upper bound {ub:e} below the truth {truth:e}");
+        return;
+    }
+    let z = (est.value - truth) / est.sigma;
+    assert!(
+        z.abs() <= k,
+        "{name}: {:e} ± {:e} vs truth {truth:e} (z = {z:.2})",
+        est.value,
+        est.sigma
+    );
+}
+
+/// White rate noise plus a Gauss-Markov bias on every channel, generated on the fly.
+struct Synth {
+    n: usize,
+    h_s: f64,
+    seed: u64,
+    white: f64,
+    gm: (f64, f64),
+}
+
+impl SampleSource for Synth {
+    fn sample_interval_s(&self) -> f64 {
+        self.h_s
+    }
+    fn visit(&mut self, sink: &mut BatchSink<'_>) -> Result<(), DiagError> {
+        let h = self.h_s;
+        let mut w = GaussianStream::new(self.seed, 1);
+        let mut gb = GaussianStream::new(self.seed, 2);
+        let mut gm: Vec<GaussMarkov> = (0..6)
+            .map(|_| GaussMarkov::new(self.gm.0, self.gm.1, h, &mut gb))
+            .collect();
+        // A constant Earth rate and gravity (cancel in the Allan variance).
+        let base = [1e-5, 5e-5, -3e-5, 0.1, 0.2, 9.8];
+        let mut batch = Vec::with_capacity(4096);
+        let seg = vec![0u16; 4096];
+        for k in 0..self.n {
+            let mut v = [0.0; 6];
+            for c in 0..6 {
+                v[c] = (base[c] + gm[c].value()) * h + self.white * h.sqrt() * w.next_standard();
+                gm[c].step(&mut gb);
+            }
+            batch.push(ImuSample {
+                t_s: (k + 1) as f64 * h,
+                dtheta_rad: Vec3::new(v[0], v[1], v[2]),
+                dv_mps: Vec3::new(v[3], v[4], v[5]),
+                temp_degc: [20.0; 3],
+            });
+            if batch.len() == 4096 {
+                sink(&batch, &seg)?;
+                batch.clear();
+            }
+        }
+        sink(&batch, &seg[..batch.len()])
+    }
+}
+
+#[test]
+fn white_plus_gauss_markov_is_identified_within_its_sigma() {
+    let (white, sigma, tc) = (2e-3, 1e-3, 300.0);
+    let mut sources: Vec<Synth> = (0..3)
+        .map(|i| Synth {
+            n: 400_000,
+            h_s: 0.05,
+            seed: 40 + i,
+            white,
+            gm: (sigma, tc),
+        })
+        .collect();
+    let mut runs: Vec<RunStationary<'_>> = sources
+        .iter_mut()
+        .enumerate()
+        .map(|(i, s)| RunStationary {
+            name: format!("r{i}"),
+            source: s,
+            segment_labels: vec!["stationary".into()],
+            site: Geodetic::from_deg(28.2, 113.0, 60.0),
+        })
+        .collect();
+    let id = identify_noise(&mut runs, &NoiseIdConfig::default()).expect("identified");
+    for (name, s) in [("gyro", &id.gyro), ("accel", &id.accel)] {
+        eprintln!("{name}: {s:#?}");
+        within(&format!("{name} white"), &s.white_per_sqrt_s, white, 3.0);
+        within(&format!("{name} GM sigma"), &s.bias_sigma, sigma, 3.0);
+        within(&format!("{name} GM correlation"), &s.bias_correlation_s, tc, 3.0);
+        // Not vacuous: the correlation time is identified to better than 30 %.
+        assert!(s.bias_correlation_s.sigma < 0.3 * tc, "{name}: {:?}", s.bias_correlation_s);
+        within(&format!("{name} rate random walk"), &s.rate_random_walk_per_sqrt_s, 0.0, 3.0);
+    }
+    // Continuous data: no lattice, and the free quantization term is compatible with zero.
+    assert!(!id.gyro.quantum_from_lattice);
+    within("gyro quantum", &id.gyro.quantum, 0.0, 3.0);
+    assert_eq!(id.runs.len(), 3);
+    assert!((id.stationary_s() - 3.0 * 400_000.0 * 0.05).abs() < 1e-6);
+}
+
+fn paper_noise() -> NoiseModel {
+    let deg_per_h = DEG / 3600.0;
+    NoiseModel {
+        gyro_arw_rad_per_sqrt_s: 0.0005 * DEG / 60.0,
+        gyro_bias_instability_radps: gauss_markov_sigma_from_allan(0.0005 * deg_per_h),
+        gyro_bias_correlation_s: 3600.0,
+        gyro_quantum_rad: DEG / 3600.0,
+        accel_vrw_mps_per_sqrt_s: 10e-6 * 9.80665,
+        accel_bias_instability_mps2: gauss_markov_sigma_from_allan(5e-6 * 9.80665),
+        accel_bias_correlation_s: 3600.0,
+    }
+}
+
+/// A stationary run of `hours` on an ideal IMU with the paper's noise at 200 Hz.
+fn stationary_run(hours: f64, seed: u64) -> SimSource {
+    let mut truth = ImuErrorParams::ideal(ParamModel::States42);
+    truth.reference_temperature_degc = 20.0;
+    let sc = Scenario {
+        name: "noise-id".into(),
+        description: "stationary".into(),
+        site: Geodetic::from_deg(28.22, 112.99, 60.0),
+        rate_hz: 200.0,
+        quadrature_nodes: 1,
+        motion: MotionProgram {
+            initial_ned_from_body: ned_from_body_euler(&Euler::from_deg(0.5, -0.3, 30.0)),
+            segments: vec![
+                MotionSegment::Dwell {
+                    duration_s: 1200.0,
+                    label: "alignment".into(),
+                },
+                MotionSegment::Dwell {
+                    duration_s: hours * 3600.0 - 1200.0,
+                    label: "stationary".into(),
+                },
+            ],
+        },
+        thermal: ThermalModel {
+            chamber_start_degc: 20.0,
+            chamber: vec![ChamberSegment::Hold {
+                duration_s: hours * 3600.0,
+                temp_degc: 20.0,
+            }],
+            accel_time_constant_s: [720.0, 1200.0, 1680.0],
+            accel_offset_degc: [0.0; 3],
+            accel_initial_degc: None,
+            thermometer_noise_degc: 0.0,
+        },
+        noise: paper_noise(),
+        truth,
+        effects: Vec::new(),
+        seed,
+        with_reference: false,
+    };
+    SimSource::new(Simulator::new(&sc, ForwardModel::new(truth)).expect("valid scenario"))
+}
+
+#[test]
+fn paper_noise_from_a_simulated_stationary_run() {
+    let truth = paper_noise();
+    let mut src = stationary_run(2.0, 5);
+    let labels = src.segment_labels();
+    let mut runs = [RunStationary {
+        name: "stat".into(),
+        source: &mut src,
+        segment_labels: labels,
+        site: Geodetic::from_deg(28.22, 112.99, 60.0),
+    }];
+    let id = identify_noise(&mut runs, &NoiseIdConfig::default()).expect("identified");
+    eprintln!("{:#?}\n{:#?}\n{:?}", id.gyro, id.accel, id.notes);
+    // The quantum is read off the increments exactly.
+    assert!(id.gyro.quantum_from_lattice);
+    assert!((id.gyro.quantum.value / truth.gyro_quantum_rad - 1.0).abs() < 1e-9);
+    within("ARW", &id.gyro.white_per_sqrt_s, truth.gyro_arw_rad_per_sqrt_s, 3.0);
+    within("VRW", &id.accel.white_per_sqrt_s, truth.accel_vrw_mps_per_sqrt_s, 3.0);
+    // Not vacuous: both white terms to better than 20 %.
+    assert!(id.gyro.white_per_sqrt_s.sigma < 0.2 * truth.gyro_arw_rad_per_sqrt_s);
+    assert!(id.accel.white_per_sqrt_s.sigma < 0.2 * truth.accel_vrw_mps_per_sqrt_s);
+    // Two hours cannot separate the Gauss-Markov σ from its hour-long correlation time; what
+    // they identify is the rising slope K² = 2σ²/T (the rate random walk the bias looks like at
+    // τ < T), and the truth's slope must lie within 3 sigma of it.
+    for (name, s, sigma, t) in [
+        ("gyro", &id.gyro, truth.gyro_bias_instability_radps, truth.gyro_bias_correlation_s),
+        ("accel", &id.accel, truth.accel_bias_instability_mps2, truth.accel_bias_correlation_s),
+    ] {
+        let est_t = s.bias_correlation_s.value;
+        if s.bias_correlation_s.sigma.is_finite() && s.bias_correlation_s.sigma > 0.0 {
+            within(&format!("{name} GM sigma"), &s.bias_sigma, sigma, 3.0);
+            within(&format!("{name} GM correlation"), &s.bias_correlation_s, t, 3.0);
+        } else {
+            let slope = Estimate {
+                value: 2.0 * s.bias_sigma.value.powi(2) / est_t,
+                sigma: 4.0 * s.bias_sigma.value * s.bias_sigma.sigma / est_t,
+                upper_95: s.bias_sigma.upper_95.map(|u| 2.0 * u * u / est_t),
+            };
+            within(&format!("{name} GM slope"), &slope, 2.0 * sigma * sigma / t, 3.0);
+        }
+    }
+    // The stretch means match the Earth rate and gravity to the bias level.
+    let s = &id.stretches[0];
+    let g = s.accel_residual_mps2.expect("aligned");
+    assert!(g.iter().all(|v| v.abs() < 1e-3), "{g:?}");
+    // Conversions carry the identified figures.
+    let m = id.to_noise_model();
+    assert_eq!(m.gyro_quantum_rad, id.gyro.quantum.value);
+    assert_eq!(id.to_noise_spec().accel_vrw_mps_per_sqrt_s, m.accel_vrw_mps_per_sqrt_s);
+}
