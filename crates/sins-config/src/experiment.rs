@@ -84,7 +84,7 @@ struct ImuFile {
 
 #[derive(Default, Deserialize)]
 #[serde(deny_unknown_fields, default)]
-struct NoiseFile {
+pub(crate) struct NoiseFile {
     gyro_arw_deg_per_sqrt_h: f64,
     gyro_bias_instability_deg_per_h: f64,
     gyro_bias_correlation_s: f64,
@@ -252,7 +252,7 @@ fn load_truth(ctx: &Ctx<'_>, rel: &str) -> Result<sins_imu::ImuErrorParams, Conf
     set.map(|s| s.params).map_err(|e| ctx.referenced(key, e))
 }
 
-fn build_noise(ctx: &Ctx<'_>, n: &NoiseFile) -> Result<NoiseModel, ConfigError> {
+pub(crate) fn build_noise(ctx: &Ctx<'_>, n: &NoiseFile) -> Result<NoiseModel, ConfigError> {
     let k = |name: &str| format!("imu.noise.{name}");
     let correlation = |name: &str, v: f64, instability: f64| -> Result<f64, ConfigError> {
         // +inf is allowed (random constant); a positive instability needs a positive time.

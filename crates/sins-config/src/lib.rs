@@ -9,6 +9,9 @@
 //! - **Experiment files** (TOML): site, sampling, truth IMU and noise, thermal chamber, turntable
 //!   motion program and one or more runs; [`load_experiment`] turns each run into a
 //!   [`sins_sim::scenario::Scenario`].
+//! - **Noise files** (TOML, `kind = "noise"`): an `[imu.noise]` table with its 1-sigma, as
+//!   `sinsbench noise` identifies it; [`load_noise`] (also takes an experiment file),
+//!   [`noise_to_toml`], [`write_noise`].
 //! - **Extra effects** (`[[imu.effect]]` tables of an experiment, or a document of them alone): the
 //!   catalogue of `sins_imu::EffectKind`s in paper-style units; [`parse_effects_toml`] and
 //!   [`effects_to_toml`] (writing then reading is bit-exact in SI).
@@ -28,6 +31,7 @@ mod exact;
 mod experiment;
 pub mod files;
 mod motion;
+mod noise_table;
 mod params;
 mod params_write;
 pub mod plausible;
@@ -41,6 +45,7 @@ pub use error::ConfigError;
 pub use experiment::{EXPERIMENT_SCHEMA, Experiment, load_experiment};
 pub use files::write_file_atomically;
 pub use motion::motion_duration_s;
+pub use noise_table::{NOISE_KIND, NoiseTable, load_noise, noise_to_toml, write_noise};
 pub use params::{
     ParamFormat, ParamSet, load_params, model_name, parse_params_json, parse_params_toml,
 };

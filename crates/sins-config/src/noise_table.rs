@@ -1,0 +1,296 @@
+//! Noise files: the `[imu.noise]` table of an experiment on its own, with its 1-sigma, as
+//! `sinsbench noise` writes it and `sinsbench diagnose --noise-from` reads it.
+//!
+//! ```toml
+//! schema = 1
+//! kind = "noise"
+//! description = "identified by sinsbench noise from nav1 (5.0 h stationary)"
+//! [imu.noise]           # the keys and units of an experiment's [imu.noise]
+//! gyro_arw_deg_per_sqrt_h = 0.00049
+//! ...
+//! [imu.noise_sigma]     # optional: 1-sigma of each figure, same keys and units
+//! gyro_arw_deg_per_sqrt_h = 0.00002
+//! ```
+//!
+//! [`load_noise`] reads either such a file or a whole experiment file (the noise of its first
+//! run). Unknown keys are errors, as everywhere. Writing then reading reproduces the SI model
+//! to a few units in the last place (each figure is written as the shortest decimal of its
+//! paper-unit value; a bias instability passes through the Allan-peak ratio 0.6174).
+
+use crate::ctx::Ctx;
+use crate::error::ConfigError;
+use crate::experiment::{EXPERIMENT_SCHEMA, NoiseFile, build_noise, load_experiment};
+use crate::files::write_file_atomically;
+use crate::toml_util;
+use crate::units::{DEG_PER_SQRT_H, UG_PER_SQRT_HZ};
+use serde::Deserialize;
+use sins_nav::{ARCSEC, DEG_PER_H, UG};
+use sins_sim::NoiseModel;
+use sins_sim::noise::GM_ALLAN_PEAK_RATIO;
+use std::path::{Path, PathBuf};
+
+/// The `kind` of a noise file.
+pub const NOISE_KIND: &str = "noise";
+
+/// A sensor-noise model with its uncertainty, as read from a noise or experiment file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NoiseTable {
+    /// The noise model (SI; bias instabilities as Gauss-Markov σ).
+    pub noise: NoiseModel,
+    /// 1-sigma of every field of `noise` (SI, same layout), when the file gives them.
+    pub sigma: Option<NoiseModel>,
+    /// The file's description.
+    pub description: String,
+    /// Whether it came from a noise file (`kind = "noise"`) rather than an experiment.
+    pub from_noise_file: bool,
+    /// The file read.
+    pub source_path: PathBuf,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct NoiseOnlyFile {
+    schema: u32,
+    #[allow(dead_code)]
+    kind: String,
+    #[serde(default)]
+    description: String,
+    imu: NoiseImu,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct NoiseImu {
+    noise: NoiseFile,
+    noise_sigma: Option<SigmaFile>,
+}
+
+#[derive(Default, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+struct SigmaFile {
+    gyro_arw_deg_per_sqrt_h: f64,
+    gyro_bias_instability_deg_per_h: f64,
+    gyro_bias_correlation_s: f64,
+    gyro_quantum_arcsec: f64,
+    accel_vrw_ug_per_sqrt_hz: f64,
+    accel_bias_instability_ug: f64,
+    accel_bias_correlation_s: f64,
+}
+
+/// Read a noise file or, when its `kind` is not `"noise"`, an experiment file (whose first
+/// run's noise is taken; all its runs share `[imu.noise]`).
+pub fn load_noise(path: impl AsRef<Path>) -> Result<NoiseTable, ConfigError> {
+    let path = path.as_ref();
+    let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    let is_noise = toml::from_str::<toml::Table>(&text)
+        .ok()
+        .and_then(|t| t.get("kind").and_then(|k| k.as_str().map(|k| k == NOISE_KIND)))
+        .unwrap_or(false);
+    if !is_noise {
+        let exp = load_experiment(path)?;
+        let ctx = Ctx::new(path, &text);
+        let noise = exp
+            .scenarios
+            .first()
+            .map(|s| s.noise)
+            .ok_or_else(|| ctx.missing("run", "an experiment needs at least one [[run]]"))?;
+        return Ok(NoiseTable {
+            noise,
+            sigma: None,
+            description: exp.description,
+            from_noise_file: false,
+            source_path: path.to_owned(),
+        });
+    }
+    let ctx = Ctx::new(path, &text);
+    let raw: NoiseOnlyFile = toml_util::from_str(&text, &ctx.origin)?;
+    if raw.schema != EXPERIMENT_SCHEMA {
+        let msg = format!(
+            "unsupported schema version {} (this build reads {EXPERIMENT_SCHEMA})",
+            raw.schema
+        );
+        return Err(ctx.invalid("schema", msg));
+    }
+    let noise = build_noise(&ctx, &raw.imu.noise)?;
+    let sigma = match &raw.imu.noise_sigma {
+        Some(s) => Some(sigma_model(&ctx, s)?),
+        None => None,
+    };
+    Ok(NoiseTable {
+        noise,
+        sigma,
+        description: raw.description,
+        from_noise_file: true,
+        source_path: path.to_owned(),
+    })
+}
+
+fn sigma_model(ctx: &Ctx<'_>, s: &SigmaFile) -> Result<NoiseModel, ConfigError> {
+    let k = |name: &str| format!("imu.noise_sigma.{name}");
+    let nn = |name: &str, v: f64| -> Result<f64, ConfigError> {
+        if v.is_nan() || v < 0.0 {
+            return Err(ctx.invalid(&k(name), format!("a 1-sigma must be >= 0 (or inf), got {v}")));
+        }
+        Ok(v)
+    };
+    Ok(NoiseModel {
+        gyro_arw_rad_per_sqrt_s: nn("gyro_arw_deg_per_sqrt_h", s.gyro_arw_deg_per_sqrt_h)?
+            * DEG_PER_SQRT_H,
+        gyro_bias_instability_radps: nn(
+            "gyro_bias_instability_deg_per_h",
+            s.gyro_bias_instability_deg_per_h,
+        )? * DEG_PER_H
+            / GM_ALLAN_PEAK_RATIO,
+        gyro_bias_correlation_s: nn("gyro_bias_correlation_s", s.gyro_bias_correlation_s)?,
+        gyro_quantum_rad: nn("gyro_quantum_arcsec", s.gyro_quantum_arcsec)? * ARCSEC,
+        accel_vrw_mps_per_sqrt_s: nn("accel_vrw_ug_per_sqrt_hz", s.accel_vrw_ug_per_sqrt_hz)?
+            * UG_PER_SQRT_HZ,
+        accel_bias_instability_mps2: nn("accel_bias_instability_ug", s.accel_bias_instability_ug)?
+            * UG
+            / GM_ALLAN_PEAK_RATIO,
+        accel_bias_correlation_s: nn("accel_bias_correlation_s", s.accel_bias_correlation_s)?,
+    })
+}
+
+/// The seven figures of a model in the file's units, in key order.
+fn paper_values(m: &NoiseModel) -> [(&'static str, f64, &'static str); 7] {
+    [
+        ("gyro_arw_deg_per_sqrt_h", m.gyro_arw_rad_per_sqrt_s / DEG_PER_SQRT_H, "angle random walk"),
+        (
+            "gyro_bias_instability_deg_per_h",
+            m.gyro_bias_instability_radps * GM_ALLAN_PEAK_RATIO / DEG_PER_H,
+            "Allan bias-instability figure = 0.6174 x Gauss-Markov sigma",
+        ),
+        ("gyro_bias_correlation_s", m.gyro_bias_correlation_s, "Gauss-Markov correlation time"),
+        ("gyro_quantum_arcsec", m.gyro_quantum_rad / ARCSEC, "output quantum"),
+        ("accel_vrw_ug_per_sqrt_hz", m.accel_vrw_mps_per_sqrt_s / UG_PER_SQRT_HZ, "velocity random walk"),
+        (
+            "accel_bias_instability_ug",
+            m.accel_bias_instability_mps2 * GM_ALLAN_PEAK_RATIO / UG,
+            "Allan bias-instability figure = 0.6174 x Gauss-Markov sigma",
+        ),
+        ("accel_bias_correlation_s", m.accel_bias_correlation_s, "Gauss-Markov correlation time"),
+    ]
+}
+
+/// A TOML number: the shortest decimal that reads back to `v` (`inf` for infinity).
+fn number(v: f64) -> String {
+    if v.is_infinite() {
+        return if v > 0.0 { "inf".into() } else { "-inf".into() };
+    }
+    let s = format!("{v:?}");
+    if s.contains(['.', 'e', 'E']) { s } else { format!("{s}.0") }
+}
+
+/// A noise file (`kind = "noise"`) of `noise` with its optional 1-sigma, `comments` as leading
+/// `#` lines (e.g. how it was identified) and `description`.
+pub fn noise_to_toml(
+    noise: &NoiseModel,
+    sigma: Option<&NoiseModel>,
+    description: &str,
+    comments: &[String],
+) -> String {
+    let mut out = String::new();
+    for c in comments {
+        for line in c.lines() {
+            out.push_str(&format!("# {line}\n"));
+        }
+    }
+    out.push_str(&format!(
+        "schema = {EXPERIMENT_SCHEMA}\nkind = \"{NOISE_KIND}\"\ndescription = {}\n\n[imu.noise]\n",
+        toml_util::quote(description)
+    ));
+    for (key, v, what) in paper_values(noise) {
+        out.push_str(&format!("{key} = {}    # {what}\n", number(v)));
+    }
+    if let Some(s) = sigma {
+        out.push_str("\n# 1-sigma of each figure above (same units)\n[imu.noise_sigma]\n");
+        for (key, v, _) in paper_values(s) {
+            out.push_str(&format!("{key} = {}\n", number(v)));
+        }
+    }
+    out
+}
+
+/// Write a noise file to `path` (aside, then renamed into place).
+pub fn write_noise(
+    path: impl AsRef<Path>,
+    noise: &NoiseModel,
+    sigma: Option<&NoiseModel>,
+    description: &str,
+    comments: &[String],
+) -> Result<(), ConfigError> {
+    let path = path.as_ref();
+    let text = noise_to_toml(noise, sigma, description, comments);
+    write_file_atomically(path, text.as_bytes()).map_err(|source| ConfigError::Io {
+        path: path.to_owned(),
+        source,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f64, b: f64) -> bool {
+        a == b || (a / b - 1.0).abs() < 1e-14
+    }
+
+    fn model() -> NoiseModel {
+        NoiseModel {
+            gyro_arw_rad_per_sqrt_s: 1.4123e-7,
+            gyro_bias_instability_radps: 3.1e-9,
+            gyro_bias_correlation_s: 4321.5,
+            gyro_quantum_rad: 4.848_136_811_095_36e-6,
+            accel_vrw_mps_per_sqrt_s: 9.81e-5,
+            accel_bias_instability_mps2: 7.7e-5,
+            accel_bias_correlation_s: f64::INFINITY,
+        }
+    }
+
+    #[test]
+    fn noise_file_round_trip_reproduces_the_model_and_its_sigma() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("noise.toml");
+        let mut sigma = model();
+        sigma.gyro_arw_rad_per_sqrt_s = 2e-9;
+        sigma.gyro_bias_correlation_s = f64::INFINITY;
+        write_noise(&path, &model(), Some(&sigma), "test \"quoted\"", &["line one\nline two".into()])
+            .expect("written");
+        let t = load_noise(&path).expect("read back");
+        assert!(t.from_noise_file);
+        assert_eq!(t.description, "test \"quoted\"");
+        let (a, b) = (t.noise, model());
+        for (x, y) in [
+            (a.gyro_arw_rad_per_sqrt_s, b.gyro_arw_rad_per_sqrt_s),
+            (a.gyro_bias_instability_radps, b.gyro_bias_instability_radps),
+            (a.gyro_bias_correlation_s, b.gyro_bias_correlation_s),
+            (a.gyro_quantum_rad, b.gyro_quantum_rad),
+            (a.accel_vrw_mps_per_sqrt_s, b.accel_vrw_mps_per_sqrt_s),
+            (a.accel_bias_instability_mps2, b.accel_bias_instability_mps2),
+            (a.accel_bias_correlation_s, b.accel_bias_correlation_s),
+        ] {
+            assert!(close(x, y), "{x} vs {y}");
+        }
+        let s = t.sigma.expect("sigma");
+        assert!(close(s.gyro_arw_rad_per_sqrt_s, 2e-9));
+        assert!(s.gyro_bias_correlation_s.is_infinite());
+    }
+
+    #[test]
+    fn noise_file_refuses_unknown_keys_and_an_experiment_still_loads() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("bad.toml");
+        let text = noise_to_toml(&model(), None, "x", &[]).replace("[imu.noise]\n", "[imu.noise]\ngyro_typo = 1.0\n");
+        std::fs::write(&path, text).expect("write");
+        let e = load_noise(&path).expect_err("unknown key refused").to_string();
+        assert!(e.contains("gyro_typo") && e.contains("bad.toml"), "{e}");
+        let exp = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments/paper_navigation.toml");
+        let t = load_noise(&exp).expect("experiment");
+        assert!(!t.from_noise_file);
+        assert!((t.noise.gyro_quantum_rad / ARCSEC - 1.0).abs() < 1e-12);
+    }
+}
