@@ -25,6 +25,7 @@
 //! # Ok::<(), sins_plot::PlotError>(())
 //! ```
 
+mod allan;
 mod band;
 mod canvas;
 mod color;
@@ -43,6 +44,7 @@ mod text;
 mod ticks;
 mod validate;
 
+pub use allan::{AllanPanel, AllanSeries, allan_figure};
 pub use canvas::{Rect, RgbImage};
 pub use color::{
     DEFAULT_BAND_ALPHA, DEFAULT_SPAN_ALPHA, Rgb, SERIES_PALETTE, SPAN_PALETTE, series_color,

@@ -9,7 +9,9 @@
 
 use std::path::Path;
 
+mod allan;
 mod nav;
+pub use allan::{AllanRecord, write_allan};
 pub use nav::{
     Annotation, NavRecording, ScalarSeries, Strip2, TIMELINE, write_navigation, write_timeseries,
 };
