@@ -2,7 +2,7 @@
 //! it, and how far the gap shrinks on withheld runs.
 
 use crate::out::{note, say};
-use crate::{argcheck, defaults};
+use crate::argcheck;
 use anyhow::{Context, Result, bail};
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::noise::NoiseSpec;
@@ -22,10 +22,17 @@ pub struct Args {
     /// paper's units; its 1-sigma, when present, widens the twin).
     #[arg(long)]
     pub params: PathBuf,
-    /// An experiment file whose [imu.noise] describes the IMU's sensor noise (the twin's spread).
-    /// Default: experiments/paper_navigation.toml (the paper IMU's figures).
+    /// The IMU's sensor noise (the twin's spread): a noise file written by `sinsbench noise`
+    /// (noise.toml) or an experiment file whose [imu.noise] gives it (e.g.
+    /// experiments/paper_navigation.toml, the paper IMU's figures). Default: identified from
+    /// the datasets' stationary segments (see --noise-labels) exactly as `sinsbench noise` does;
+    /// the report's notes say which noise was used.
     #[arg(long)]
     pub noise_from: Option<PathBuf>,
+    /// Segment labels of the stationary samples the noise is identified from when no
+    /// --noise-from is given (comma-separated).
+    #[arg(long, value_delimiter = ',', default_value = "alignment,stationary")]
+    pub noise_labels: Vec<String>,
     /// Only these candidate effects (comma-separated kind names); default the whole catalogue.
     #[arg(long, value_delimiter = ',')]
     pub candidates: Vec<String>,
@@ -44,10 +51,10 @@ pub struct Args {
     pub threads: usize,
 }
 
-/// Run `diagnose`.
-pub fn run(args: Args, quiet: bool) -> Result<()> {
+/// `--dataset [NAME=]PATH` arguments as `(name, path)`; two runs with one name are refused.
+pub(crate) fn parse_datasets(args: &[String]) -> Result<Vec<(String, PathBuf)>> {
     let mut datasets = Vec::new();
-    for d in &args.datasets {
+    for d in args {
         let (name, path) = match d.split_once('=') {
             Some((n, p)) if !n.is_empty() => (n.to_string(), PathBuf::from(p)),
             _ => {
@@ -64,6 +71,12 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         }
         datasets.push((name, path));
     }
+    Ok(datasets)
+}
+
+/// Run `diagnose`.
+pub fn run(args: Args, quiet: bool) -> Result<()> {
+    let datasets = parse_datasets(&args.datasets)?;
     let calibration_run = match args.calibration_run.as_deref() {
         Some("none") => None,
         Some(name) => {
@@ -86,17 +99,32 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     crate::outputs::sweep(&parent);
     sins_report::check_output_dir(&parent, &name, "diagnose")?;
     let set = sins_config::load_params(&args.params)?;
-    let noise_path = args
-        .noise_from
-        .clone()
-        .unwrap_or_else(defaults::navigation_experiment);
-    let exp = sins_config::load_experiment(&noise_path)?;
-    let noise = NoiseSpec::from(
-        &exp.scenarios
-            .first()
-            .with_context(|| format!("{}: no [[run]]", noise_path.display()))?
-            .noise,
-    );
+    let (noise, noise_note) = match &args.noise_from {
+        Some(path) => {
+            let table = sins_config::load_noise(path)?;
+            let what = if table.from_noise_file { "noise file" } else { "[imu.noise] of experiment" };
+            (
+                NoiseSpec::from(&table.noise),
+                format!("twin noise: the {what} {}", path.display()),
+            )
+        }
+        None => {
+            if !quiet {
+                note!(
+                    "diagnose: no --noise-from: identifying the twin's noise from the stationary segments ({}) of the datasets",
+                    args.noise_labels.join(", ")
+                );
+            }
+            let id = crate::noise::identify_datasets(&datasets, &args.noise_labels)
+                .context("no --noise-from was given, so the noise is identified from the data (give --noise-from FILE to use a file instead)")?;
+            let line = crate::noise::one_line(&id);
+            (
+                id.to_noise_spec(),
+                format!("twin noise: identified from the data's stationary segments (sinsbench noise): {line}"),
+            )
+        }
+    };
+    say!("{noise_note}")?;
     let config = DiagnoseConfig {
         candidates: args.candidates.clone(),
         threads: args.threads,
@@ -121,6 +149,8 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         calibration_run,
         config,
     })?;
+    let mut outcome = outcome;
+    outcome.diagnosis.notes.insert(0, noise_note);
     let dir = write_diagnosis(&parent, &name, &outcome)?;
     say!("verdict: {:?}", outcome.diagnosis.verdict)?;
     for c in outcome.diagnosis.candidates.iter().take(3) {

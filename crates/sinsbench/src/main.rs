@@ -13,6 +13,7 @@ mod defaults;
 mod diagnose;
 mod gate;
 mod navigate;
+mod noise;
 mod out;
 mod outputs;
 mod progress;
@@ -79,6 +80,12 @@ enum Command {
     /// evidence, and measure how far the gap shrinks on withheld runs. Writes report.md,
     /// diagnosis.json, PNG plots and a .rrd.
     Diagnose(diagnose::Args),
+    /// Identify the IMU's sensor noise from the stationary segments of its runs: overlapping
+    /// Allan deviation of the gyros and accelerometers, pooled over stretches and runs, and a
+    /// fit of the twin's noise terms (angle / velocity random walk, gyro quantum, Gauss-Markov
+    /// bias instability and correlation time; rate random walk reported) with 1-sigma. Writes
+    /// noise.toml (usable as `diagnose --noise-from`), allan.png, noise.rrd and noise.md.
+    Noise(noise::Args),
     /// Blind validation of `diagnose`: cases with a hidden effect (or none, or one outside the
     /// catalogue) drawn at random, answers sealed with SHA-256 before the diagnoses run, then
     /// graded (top-1, false alarms, magnitudes, shrinkage, confusion table).
@@ -115,6 +122,7 @@ fn main() -> std::process::ExitCode {
         Command::Report(a) => report::run(a, cli.quiet),
         Command::Gate(a) => gate::run(a, cli.quiet),
         Command::Diagnose(a) => diagnose::run(a, cli.quiet),
+        Command::Noise(a) => noise::run(a, cli.quiet),
         Command::Blind(a) => blind::run(a, cli.quiet),
         Command::Bench(a) => bench::run(a, cli.quiet),
         Command::ReplicaUq(a) => uq::run(a, cli.quiet),

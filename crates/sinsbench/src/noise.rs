@@ -1,0 +1,350 @@
+//! `sinsbench noise`: the IMU's sensor noise identified from the stationary stretches of its
+//! runs (Allan deviation and a fit of the terms the twin uses), written as a noise file that
+//! `diagnose --noise-from` reads back.
+
+use crate::out::{note, say};
+use anyhow::{Context, Result};
+use sins_config::units::{DEG_PER_SQRT_H, UG_PER_SQRT_HZ};
+use sins_diag::source::SampleSource;
+use sins_gap::DatasetSource;
+use sins_nav::{ARCSEC, DEG_PER_H, UG};
+use sins_noiseid::{Estimate, IdentifiedNoise, NoiseIdConfig, RunStationary, SensorNoise};
+use sins_plot::{AllanPanel, AllanSeries, allan_figure};
+use sins_report::ReportError;
+use sins_sim::NoiseModel;
+use sins_viz::AllanRecord;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Arguments of `noise`.
+///
+/// The Allan deviation σ_A(τ) is the standard deviation of the change between consecutive
+/// τ-long averages of a sensor's rate. Each noise process leaves its own slope on a log-log
+/// plot of σ_A against τ: quantization falls as 1/τ, white noise (gyro angle random walk,
+/// accelerometer velocity random walk) as 1/√τ, a Gauss-Markov bias (the 'bias instability')
+/// rises as √τ below its correlation time and falls beyond it, a rate random walk rises as √τ.
+/// `noise` computes the overlapping Allan deviation of the three gyros and three accelerometers
+/// over every stationary stretch of the given runs (the 20 min alignment and the stationary
+/// segments; the Earth rate and gravity are constant there and cancel), pools the stretches
+/// and runs, and fits the terms of the twin's noise model with their 1-sigma (the gyro quantum
+/// is read off the increments when they are quantised). The result is the `[imu.noise]` the
+/// twin of `diagnose` needs, identified from your data instead of a datasheet.
+#[derive(clap::Args)]
+pub struct Args {
+    /// A run of the IMU: a dataset in the project's format (repeat for several runs). `NAME=PATH`
+    /// names it, otherwise the file stem is the name. Its segment labels choose the stationary
+    /// samples (see --labels).
+    #[arg(long = "dataset", value_name = "[NAME=]PATH", required = true)]
+    pub datasets: Vec<String>,
+    /// Segment labels of the stationary samples (comma-separated).
+    #[arg(long, value_delimiter = ',', default_value = "alignment,stationary")]
+    pub labels: Vec<String>,
+    /// Output directory: noise.toml (the identified [imu.noise] with [imu.noise_sigma], usable
+    /// as `diagnose --noise-from`), allan.png, noise.rrd, noise.md. Replaced only by another
+    /// `noise` output.
+    #[arg(long, default_value = "reports/noise")]
+    pub out: PathBuf,
+}
+
+/// Open the datasets and identify their noise (one pass over each).
+pub(crate) fn identify_datasets(
+    datasets: &[(String, PathBuf)],
+    labels: &[String],
+) -> Result<IdentifiedNoise> {
+    let mut sources = Vec::new();
+    for (name, path) in datasets {
+        let s = DatasetSource::open(path, name)
+            .with_context(|| format!("--dataset {}", path.display()))?;
+        sources.push((name.clone(), path.clone(), s));
+    }
+    let mut runs: Vec<RunStationary<'_>> = sources
+        .iter_mut()
+        .map(|(name, _, s)| {
+            let labels = s.info().segment_labels.clone();
+            let site = s.info().meta.site;
+            RunStationary {
+                name: name.clone(),
+                source: s as &mut dyn SampleSource,
+                segment_labels: labels,
+                site,
+            }
+        })
+        .collect();
+    let cfg = NoiseIdConfig {
+        labels: labels.to_vec(),
+        ..NoiseIdConfig::default()
+    };
+    let files: Vec<String> = datasets.iter().map(|(_, p)| p.display().to_string()).collect();
+    sins_noiseid::identify_noise(&mut runs, &cfg)
+        .with_context(|| format!("identifying the noise of {}", files.join(", ")))
+}
+
+/// A paper-unit figure with its 1-sigma (or upper bound).
+fn fig(e: &Estimate, per_unit: f64, digits: usize) -> String {
+    let v = e.value / per_unit;
+    if e.value == 0.0 {
+        return match e.upper_95 {
+            Some(u) => format!("0 (< {:.*} at 95 %)", digits, u / per_unit),
+            None => "0".into(),
+        };
+    }
+    if e.value.is_infinite() {
+        return "inf".into();
+    }
+    if e.sigma.is_infinite() {
+        return format!("{v:.digits$} (not identified)");
+    }
+    format!("{v:.digits$} ± {:.digits$}", e.sigma / per_unit)
+}
+
+/// Rows `(term, unit, formatter)` of the summary tables.
+fn rows(gyro: &SensorNoise, accel: &SensorNoise) -> Vec<(String, String)> {
+    let rrw_g = DEG_PER_H / 60.0;
+    let rrw_a = UG / 60.0;
+    vec![
+        ("gyro angle random walk [deg/√h]".into(), fig(&gyro.white_per_sqrt_s, DEG_PER_SQRT_H, 6)),
+        ("gyro bias instability (Allan floor) [deg/h]".into(), fig(&gyro.bias_instability, DEG_PER_H, 6)),
+        ("gyro bias correlation time [s]".into(), fig(&gyro.bias_correlation_s, 1.0, 0)),
+        (
+            format!("gyro quantum [arcsec]{}", if gyro.quantum_from_lattice { " (lattice of the increments)" } else { "" }),
+            fig(&gyro.quantum, ARCSEC, 4),
+        ),
+        ("gyro rate random walk [deg/h/√h] (not in the twin)".into(), fig(&gyro.rate_random_walk_per_sqrt_s, rrw_g, 6)),
+        ("accel velocity random walk [ug/√Hz]".into(), fig(&accel.white_per_sqrt_s, UG_PER_SQRT_HZ, 3)),
+        ("accel bias instability (Allan floor) [ug]".into(), fig(&accel.bias_instability, UG, 3)),
+        ("accel bias correlation time [s]".into(), fig(&accel.bias_correlation_s, 1.0, 0)),
+        ("accel rate random walk [ug/√h] (not in the twin)".into(), fig(&accel.rate_random_walk_per_sqrt_s, rrw_a, 3)),
+    ]
+}
+
+/// One line with the twin's figures (for `diagnose`'s notes).
+pub(crate) fn one_line(id: &IdentifiedNoise) -> String {
+    let r = rows(&id.gyro, &id.accel);
+    let pick = |k: usize| r.get(k).map_or(String::new(), |x| x.1.clone());
+    format!(
+        "gyro ARW {} deg/√h, bias instability {} deg/h (T {} s), quantum {} arcsec; accel VRW {} ug/√Hz, bias instability {} ug (T {} s); from {:.1} h stationary",
+        pick(0),
+        pick(1),
+        pick(2),
+        pick(3),
+        pick(5),
+        pick(6),
+        pick(7),
+        id.stationary_s() / 3600.0
+    )
+}
+
+fn markdown(id: &IdentifiedNoise, datasets: &[(String, PathBuf)], seconds: f64) -> String {
+    let mut md = String::from("# Sensor noise identified from stationary data\n\n");
+    md.push_str("Overlapping Allan deviation (IEEE Std 952/1554) of every stationary stretch, pooled over stretches and runs; weighted (generalised) least-squares fit of the twin's terms; 1-sigma from the fit. `allan.png`: data with 68 % chi-square intervals, dashed the triad's fitted model.\n\n");
+    md.push_str("| term | triad (pooled) | x | y | z |\n|---|---|---|---|---|\n");
+    let pooled = rows(&id.gyro, &id.accel);
+    let axes: Vec<Vec<(String, String)>> = (0..3)
+        .filter_map(|a| Some(rows(id.gyro_axes.get(a)?, id.accel_axes.get(a)?)))
+        .collect();
+    for (k, (term, v)) in pooled.iter().enumerate() {
+        let ax: Vec<String> = axes
+            .iter()
+            .map(|r| r.get(k).map_or(String::new(), |x| x.1.clone()))
+            .collect();
+        md.push_str(&format!("| {term} | {v} | {} |\n", ax.join(" | ")));
+    }
+    md.push_str("\n## Data\n\n| run | file | stationary [h] | stretches | too short |\n|---|---|---|---|---|\n");
+    for r in &id.runs {
+        let file = datasets
+            .iter()
+            .find(|(n, _)| n == &r.name)
+            .map_or(String::new(), |(_, p)| p.display().to_string());
+        md.push_str(&format!(
+            "| {} | {file} | {:.2} | {} | {} |\n",
+            r.name,
+            r.stationary_s / 3600.0,
+            r.stretches,
+            r.skipped
+        ));
+    }
+    md.push_str("\nStretch means against the Earth rate and gravity at the site (TRIAD attitude of the stretch itself; the observable part of the turn-on bias):\n\n| run | start [s] | length [s] | gyro - Earth rate [deg/h] x, y, z | accel - (-g) [ug] x, y, z |\n|---|---|---|---|---|\n");
+    for s in &id.stretches {
+        let f = |v: Option<[f64; 3]>, u: f64| {
+            v.map_or("(alignment failed)".into(), |v| {
+                format!("{:.4}, {:.4}, {:.4}", v[0] / u, v[1] / u, v[2] / u)
+            })
+        };
+        md.push_str(&format!(
+            "| {} | {:.0} | {:.0} | {} | {} |\n",
+            s.run,
+            s.start_s,
+            s.duration_s,
+            f(s.gyro_residual_radps, DEG_PER_H),
+            f(s.accel_residual_mps2, UG)
+        ));
+    }
+    if !id.notes.is_empty() {
+        md.push_str("\n## Notes\n\n");
+        for n in &id.notes {
+            md.push_str(&format!("- {n}\n"));
+        }
+    }
+    md.push_str(&format!("\nIdentification time: {seconds:.1} s.\n"));
+    md
+}
+
+/// 1-sigma of each field of the twin's model.
+fn sigma_model(id: &IdentifiedNoise) -> NoiseModel {
+    NoiseModel {
+        gyro_arw_rad_per_sqrt_s: id.gyro.white_per_sqrt_s.sigma,
+        gyro_bias_instability_radps: id.gyro.bias_sigma.sigma,
+        gyro_bias_correlation_s: id.gyro.bias_correlation_s.sigma,
+        gyro_quantum_rad: id.gyro.quantum.sigma,
+        accel_vrw_mps_per_sqrt_s: id.accel.white_per_sqrt_s.sigma,
+        accel_bias_instability_mps2: id.accel.bias_sigma.sigma,
+        accel_bias_correlation_s: id.accel.bias_correlation_s.sigma,
+    }
+}
+
+fn plot(id: &IdentifiedNoise) -> Result<Vec<u8>, sins_plot::PlotError> {
+    let conv: Vec<(String, Vec<Vec<f64>>)> = id
+        .curves
+        .iter()
+        .map(|c| {
+            let u = if c.channel.starts_with("gyro") { DEG_PER_H } else { UG };
+            let s = |v: &[f64]| v.iter().map(|x| x / u).collect::<Vec<f64>>();
+            (
+                c.channel.clone(),
+                vec![c.tau_s.clone(), s(&c.adev), s(&c.lo), s(&c.hi), s(&c.fit_triad)],
+            )
+        })
+        .collect();
+    let series = |prefix: &str| -> Vec<AllanSeries<'_>> {
+        conv.iter()
+            .filter(|(n, _)| n.starts_with(prefix))
+            .map(|(n, v)| AllanSeries {
+                label: n.rsplit('_').next().unwrap_or(n),
+                tau_s: &v[0],
+                adev: &v[1],
+                lo: &v[2],
+                hi: &v[3],
+                fit: &v[4],
+            })
+            .collect()
+    };
+    allan_figure(
+        "Allan deviation of the stationary stretches (68 % intervals; dashed: fitted twin model)",
+        &[
+            AllanPanel {
+                title: "gyros",
+                unit: "deg/h",
+                series: series("gyro"),
+            },
+            AllanPanel {
+                title: "accelerometers",
+                unit: "ug",
+                series: series("accel"),
+            },
+        ],
+    )
+    .size_px(1400, 520)
+    .to_png_bytes()
+}
+
+fn write_outputs(
+    parent: &Path,
+    name: &str,
+    id: &IdentifiedNoise,
+    datasets: &[(String, PathBuf)],
+    seconds: f64,
+) -> Result<PathBuf> {
+    let files = sins_report::write_dir_atomically(parent, name, "noise", |dir| {
+        let mismatch = |what: &str, e: &dyn std::fmt::Display| ReportError::Mismatch(format!("{what}: {e}"));
+        let mut comments = vec![
+            "Identified by `sinsbench noise` from the stationary stretches of:".to_string(),
+        ];
+        for (n, p) in datasets {
+            comments.push(format!("  {n} = {}", p.display()));
+        }
+        comments.push(format!("{:.2} h stationary in all; see noise.md.", id.stationary_s() / 3600.0));
+        for n in &id.notes {
+            comments.push(format!("note: {n}"));
+        }
+        for (what, s) in [("gyro", &id.gyro), ("accel", &id.accel)] {
+            if let Some(u) = s.bias_instability.upper_95 {
+                comments.push(format!("{what} bias instability fitted 0: 95 % upper bound {u:e} (SI)"));
+            }
+        }
+        let description = format!(
+            "noise identified from {} run(s), {:.2} h stationary",
+            id.runs.len(),
+            id.stationary_s() / 3600.0
+        );
+        let toml = sins_config::noise_to_toml(&id.to_noise_model(), Some(&sigma_model(id)), &description, &comments);
+        sins_report::write_bytes(&dir.join("noise.toml"), toml.as_bytes())?;
+        let png = plot(id).map_err(|e| mismatch("Allan plot", &e))?;
+        sins_report::write_bytes(&dir.join("allan.png"), &png)?;
+        let paper: Vec<(String, [Vec<f64>; 4], Vec<f64>)> = id
+            .curves
+            .iter()
+            .map(|c| {
+                let u = if c.channel.starts_with("gyro") { DEG_PER_H } else { UG };
+                let s = |v: &[f64]| v.iter().map(|x| x / u).collect::<Vec<f64>>();
+                (c.channel.clone(), [s(&c.adev), s(&c.lo), s(&c.hi), s(&c.fit_triad)], c.tau_s.clone())
+            })
+            .collect();
+        let records: Vec<AllanRecord<'_>> = paper
+            .iter()
+            .map(|(ch, v, tau)| AllanRecord {
+                channel: ch,
+                tau_s: tau,
+                adev: &v[0],
+                lo: &v[1],
+                hi: &v[2],
+                fit: &v[3],
+            })
+            .collect();
+        sins_viz::write_allan(&dir.join("noise.rrd"), name, &records)
+            .map_err(|e| mismatch("noise.rrd", &e))?;
+        sins_report::write_bytes(&dir.join("noise.md"), markdown(id, datasets, seconds).as_bytes())?;
+        Ok(vec![
+            "noise.toml".into(),
+            "allan.png".into(),
+            "noise.rrd".into(),
+            "noise.md".into(),
+        ])
+    })?;
+    Ok(files.dir)
+}
+
+/// Run `noise`.
+pub fn run(args: Args, quiet: bool) -> Result<()> {
+    let datasets = crate::diagnose::parse_datasets(&args.datasets)?;
+    let parent = args.out.parent().map_or(PathBuf::from("."), PathBuf::from);
+    let name = args
+        .out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .context("--out must name a directory")?;
+    crate::outputs::sweep(&parent);
+    sins_report::check_output_dir(&parent, &name, "noise")?;
+    if !quiet {
+        note!(
+            "noise: Allan deviation of the stretches labelled {} in {} run(s)",
+            args.labels.join(", "),
+            datasets.len()
+        );
+    }
+    let started = Instant::now();
+    let id = identify_datasets(&datasets, &args.labels)?;
+    let seconds = started.elapsed().as_secs_f64();
+    let dir = write_outputs(&parent, &name, &id, &datasets, seconds)?;
+    for (term, v) in rows(&id.gyro, &id.accel) {
+        say!("  {term:<52} {v}")?;
+    }
+    for n in &id.notes {
+        say!("  note: {n}")?;
+    }
+    say!(
+        "wrote {} ({:.2} h stationary, {seconds:.1} s); use it with `diagnose --noise-from {}`",
+        dir.display(),
+        id.stationary_s() / 3600.0,
+        dir.join("noise.toml").display()
+    )
+}
