@@ -124,9 +124,9 @@ impl Accumulator {
         o.points += 1;
         let p = o.points as usize;
         let len = o.mask + 1;
-        for c in 0..CHANNELS {
-            o.raw_sum[c] += v[c];
-            o.x[c] += v[c] - o.reference[c];
+        for (c, &vc) in v.iter().enumerate() {
+            o.raw_sum[c] += vc;
+            o.x[c] += vc - o.reference[c];
             let ring = &mut o.ring[c * len..(c + 1) * len];
             ring[p & o.mask] = o.x[c];
             for j in 0..octaves {
@@ -143,7 +143,7 @@ impl Accumulator {
                 o.short_n[j] += 1;
             }
         }
-        if p % bin == 0 {
+        if p.is_multiple_of(bin) {
             o.bins.push(o.x);
         }
     }

@@ -110,7 +110,7 @@ fn solve(rows: &DMatrix<f64>, y: &DVector<f64>, subset: &[usize]) -> Option<Solv
         a.set_column(j, &rows.column(t));
     }
     let scale: Vec<f64> = (0..p).map(|j| a.column(j).norm()).collect();
-    if scale.iter().any(|s| !(*s > 0.0) || !s.is_finite()) {
+    if scale.iter().any(|s| *s <= 0.0 || !s.is_finite()) {
         return None;
     }
     for (j, s) in scale.iter().enumerate() {
@@ -221,7 +221,7 @@ pub(crate) fn fit_fixed(data: &FitData<'_>, enabled: [bool; 4], correlation_s: f
                 .map(|(_, &t)| t)
                 .collect();
             let Some(s) = solve(&w.rows, &w.y, &subset) else { continue };
-            if subset.iter().any(|&t| !(s.theta[t] > 0.0)) {
+            if subset.iter().any(|&t| s.theta[t] <= 0.0 || s.theta[t].is_nan()) {
                 continue;
             }
             if best.as_ref().is_none_or(|(b, _)| s.sse < b.sse) {

@@ -80,11 +80,26 @@ enum Command {
     /// evidence, and measure how far the gap shrinks on withheld runs. Writes report.md,
     /// diagnosis.json, PNG plots and a .rrd.
     Diagnose(diagnose::Args),
-    /// Identify the IMU's sensor noise from the stationary segments of its runs: overlapping
-    /// Allan deviation of the gyros and accelerometers, pooled over stretches and runs, and a
-    /// fit of the twin's noise terms (angle / velocity random walk, gyro quantum, Gauss-Markov
-    /// bias instability and correlation time; rate random walk reported) with 1-sigma. Writes
-    /// noise.toml (usable as `diagnose --noise-from`), allan.png, noise.rrd and noise.md.
+    /// Identify the IMU's sensor noise from the stationary segments of its runs (Allan
+    /// deviation and a fit of the twin's noise terms with 1-sigma); writes noise.toml (usable as
+    /// `diagnose --noise-from`), allan.png, noise.rrd and noise.md.
+    ///
+    /// The Allan deviation σ_A(τ) is the standard deviation of the change between consecutive
+    /// τ-long averages of a sensor's rate. Each noise process leaves its own slope on a log-log
+    /// plot of σ_A against τ: quantization falls as 1/τ, white noise (gyro angle random walk
+    /// ARW, accelerometer velocity random walk VRW) as 1/√τ; a Gauss-Markov bias (the 'bias
+    /// instability', its correlation time T) rises as √τ below T, peaks at 0.62 σ near 1.9 T
+    /// (the datasheet's bias-instability figure) and falls beyond; a rate random walk rises
+    /// as √τ.
+    ///
+    /// `noise` computes the overlapping Allan deviation of the three gyros and three
+    /// accelerometers over every stationary stretch of the given runs (the 20 min alignment and
+    /// the stationary segments: the Earth rate and gravity are constant there and cancel),
+    /// pools stretches and runs, and fits the terms of the twin's noise model with their
+    /// 1-sigma; the gyro quantum is read off the increments when they are quantised. The twin
+    /// of `diagnose` takes its spread from these terms (diagnose identifies them itself when
+    /// no --noise-from is given). A correlation time longer than about a quarter of the longest
+    /// stretch cannot be told from a rate random walk: the notes then say so.
     Noise(noise::Args),
     /// Blind validation of `diagnose`: cases with a hidden effect (or none, or one outside the
     /// catalogue) drawn at random, answers sealed with SHA-256 before the diagnoses run, then

@@ -16,19 +16,7 @@ use sins_viz::AllanRecord;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// Arguments of `noise`.
-///
-/// The Allan deviation σ_A(τ) is the standard deviation of the change between consecutive
-/// τ-long averages of a sensor's rate. Each noise process leaves its own slope on a log-log
-/// plot of σ_A against τ: quantization falls as 1/τ, white noise (gyro angle random walk,
-/// accelerometer velocity random walk) as 1/√τ, a Gauss-Markov bias (the 'bias instability')
-/// rises as √τ below its correlation time and falls beyond it, a rate random walk rises as √τ.
-/// `noise` computes the overlapping Allan deviation of the three gyros and three accelerometers
-/// over every stationary stretch of the given runs (the 20 min alignment and the stationary
-/// segments; the Earth rate and gravity are constant there and cancel), pools the stretches
-/// and runs, and fits the terms of the twin's noise model with their 1-sigma (the gyro quantum
-/// is read off the increments when they are quantised). The result is the `[imu.noise]` the
-/// twin of `diagnose` needs, identified from your data instead of a datasheet.
+/// Arguments of `noise` (the command's help is its doc in `main.rs`).
 #[derive(clap::Args)]
 pub struct Args {
     /// A run of the IMU: a dataset in the project's format (repeat for several runs). `NAME=PATH`
