@@ -87,7 +87,10 @@ pub fn load_noise(path: impl AsRef<Path>) -> Result<NoiseTable, ConfigError> {
     })?;
     let is_noise = toml::from_str::<toml::Table>(&text)
         .ok()
-        .and_then(|t| t.get("kind").and_then(|k| k.as_str().map(|k| k == NOISE_KIND)))
+        .and_then(|t| {
+            t.get("kind")
+                .and_then(|k| k.as_str().map(|k| k == NOISE_KIND))
+        })
         .unwrap_or(false);
     if !is_noise {
         let exp = load_experiment(path)?;
@@ -132,7 +135,10 @@ fn sigma_model(ctx: &Ctx<'_>, s: &SigmaFile) -> Result<NoiseModel, ConfigError> 
     let k = |name: &str| format!("imu.noise_sigma.{name}");
     let nn = |name: &str, v: f64| -> Result<f64, ConfigError> {
         if v.is_nan() || v < 0.0 {
-            return Err(ctx.invalid(&k(name), format!("a 1-sigma must be >= 0 (or inf), got {v}")));
+            return Err(ctx.invalid(
+                &k(name),
+                format!("a 1-sigma must be >= 0 (or inf), got {v}"),
+            ));
         }
         Ok(v)
     };
@@ -158,21 +164,41 @@ fn sigma_model(ctx: &Ctx<'_>, s: &SigmaFile) -> Result<NoiseModel, ConfigError> 
 /// The seven figures of a model in the file's units, in key order.
 fn paper_values(m: &NoiseModel) -> [(&'static str, f64, &'static str); 7] {
     [
-        ("gyro_arw_deg_per_sqrt_h", m.gyro_arw_rad_per_sqrt_s / DEG_PER_SQRT_H, "angle random walk"),
+        (
+            "gyro_arw_deg_per_sqrt_h",
+            m.gyro_arw_rad_per_sqrt_s / DEG_PER_SQRT_H,
+            "angle random walk",
+        ),
         (
             "gyro_bias_instability_deg_per_h",
             m.gyro_bias_instability_radps * GM_ALLAN_PEAK_RATIO / DEG_PER_H,
             "Allan bias-instability figure = 0.6174 x Gauss-Markov sigma",
         ),
-        ("gyro_bias_correlation_s", m.gyro_bias_correlation_s, "Gauss-Markov correlation time"),
-        ("gyro_quantum_arcsec", m.gyro_quantum_rad / ARCSEC, "output quantum"),
-        ("accel_vrw_ug_per_sqrt_hz", m.accel_vrw_mps_per_sqrt_s / UG_PER_SQRT_HZ, "velocity random walk"),
+        (
+            "gyro_bias_correlation_s",
+            m.gyro_bias_correlation_s,
+            "Gauss-Markov correlation time",
+        ),
+        (
+            "gyro_quantum_arcsec",
+            m.gyro_quantum_rad / ARCSEC,
+            "output quantum",
+        ),
+        (
+            "accel_vrw_ug_per_sqrt_hz",
+            m.accel_vrw_mps_per_sqrt_s / UG_PER_SQRT_HZ,
+            "velocity random walk",
+        ),
         (
             "accel_bias_instability_ug",
             m.accel_bias_instability_mps2 * GM_ALLAN_PEAK_RATIO / UG,
             "Allan bias-instability figure = 0.6174 x Gauss-Markov sigma",
         ),
-        ("accel_bias_correlation_s", m.accel_bias_correlation_s, "Gauss-Markov correlation time"),
+        (
+            "accel_bias_correlation_s",
+            m.accel_bias_correlation_s,
+            "Gauss-Markov correlation time",
+        ),
     ]
 }
 
@@ -182,7 +208,11 @@ fn number(v: f64) -> String {
         return if v > 0.0 { "inf".into() } else { "-inf".into() };
     }
     let s = format!("{v:?}");
-    if s.contains(['.', 'e', 'E']) { s } else { format!("{s}.0") }
+    if s.contains(['.', 'e', 'E']) {
+        s
+    } else {
+        format!("{s}.0")
+    }
 }
 
 /// A noise file (`kind = "noise"`) of `noise` with its optional 1-sigma, `comments` as leading
@@ -258,8 +288,14 @@ mod tests {
         let mut sigma = model();
         sigma.gyro_arw_rad_per_sqrt_s = 2e-9;
         sigma.gyro_bias_correlation_s = f64::INFINITY;
-        write_noise(&path, &model(), Some(&sigma), "test \"quoted\"", &["line one\nline two".into()])
-            .expect("written");
+        write_noise(
+            &path,
+            &model(),
+            Some(&sigma),
+            "test \"quoted\"",
+            &["line one\nline two".into()],
+        )
+        .expect("written");
         let t = load_noise(&path).expect("read back");
         assert!(t.from_noise_file);
         assert_eq!(t.description, "test \"quoted\"");
@@ -284,11 +320,15 @@ mod tests {
     fn noise_file_refuses_unknown_keys_and_an_experiment_still_loads() {
         let dir = tempfile::tempdir().expect("tempdir");
         let path = dir.path().join("bad.toml");
-        let text = noise_to_toml(&model(), None, "x", &[]).replace("[imu.noise]\n", "[imu.noise]\ngyro_typo = 1.0\n");
+        let text = noise_to_toml(&model(), None, "x", &[])
+            .replace("[imu.noise]\n", "[imu.noise]\ngyro_typo = 1.0\n");
         std::fs::write(&path, text).expect("write");
-        let e = load_noise(&path).expect_err("unknown key refused").to_string();
+        let e = load_noise(&path)
+            .expect_err("unknown key refused")
+            .to_string();
         assert!(e.contains("gyro_typo") && e.contains("bad.toml"), "{e}");
-        let exp = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments/paper_navigation.toml");
+        let exp =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments/paper_navigation.toml");
         let t = load_noise(&exp).expect("experiment");
         assert!(!t.from_noise_file);
         assert!((t.noise.gyro_quantum_rad / ARCSEC - 1.0).abs() < 1e-12);

@@ -125,7 +125,12 @@ pub fn effect_largest_plausible(kind: EffectKind) -> f64 {
         // As large as a MEMS gyro bias.
         EffectKind::GyroBiasOscillation => 3600.0,
         // As large as a MEMS accelerometer bias.
-        EffectKind::AccelBiasStep => 100_000.0,
+        EffectKind::AccelBiasStep | EffectKind::AccelBiasTransient => 100_000.0,
+        // As large as a MEMS gyro bias.
+        EffectKind::GyroBiasStep | EffectKind::GyroBiasTransient => 3600.0,
+        // A MEMS bias drifting over its whole range within an hour.
+        EffectKind::GyroBiasRamp => 3600.0,
+        EffectKind::AccelBiasRamp => 100_000.0,
     }
 }
 

@@ -116,6 +116,25 @@ time_s = 3600.5
 [[imu.effect]]
 kind = "accel_cross_coupling"
 coeff_ug_per_g2 = [0.0, 0.0, 20.0]
+[[imu.effect]]
+kind = "gyro_bias_step"
+step_deg_per_h = [0.002, 0.0, 0.0]
+time_s = 5000
+[[imu.effect]]
+kind = "gyro_bias_ramp"
+rate_deg_per_h_per_h = [0.0, 0.001, 0.0]
+[[imu.effect]]
+kind = "accel_bias_ramp"
+rate_ug_per_h = [0.0, 0.0, 10.0]
+time_s = 100
+[[imu.effect]]
+kind = "gyro_bias_transient"
+amplitude_deg_per_h = [0.01, 0.0, 0.0]
+time_s = 0
+time_constant_s = 900
+[[imu.effect]]
+kind = "accel_bias_transient"
+amplitude_ug = [0.0, 30.0, 0.0]
 "#;
     let fx = parse_effects_toml(text, "fx.toml").unwrap();
     let kinds: Vec<EffectKind> = fx.iter().map(|s| s.kind()).collect();
@@ -185,6 +204,32 @@ coeff_ug_per_g2 = [0.0, 0.0, 20.0]
             EffectSpec::AccelCrossCoupling { coeff_per_mps2 } => {
                 close3(coeff_per_mps2, [0.0, 0.0, 20.0 * ug_g2])
             }
+            EffectSpec::BiasEvent {
+                kind,
+                magnitude_si: m,
+                onset_s,
+                time_constant_s,
+            } => match kind {
+                EffectKind::GyroBiasStep => {
+                    close3(m, [0.002 * DEG_PER_H, 0.0, 0.0]) && onset_s == 5000.0
+                }
+                // Defaults: onset 7200 s, time constant 1800 s.
+                EffectKind::GyroBiasRamp => {
+                    close3(m, [0.0, 0.001 * DEG_PER_H / 3600.0, 0.0]) && onset_s == 7200.0
+                }
+                EffectKind::AccelBiasRamp => {
+                    close3(m, [0.0, 0.0, 10.0 * UG / 3600.0]) && onset_s == 100.0
+                }
+                EffectKind::GyroBiasTransient => {
+                    close3(m, [0.01 * DEG_PER_H, 0.0, 0.0])
+                        && onset_s == 0.0
+                        && time_constant_s == 900.0
+                }
+                EffectKind::AccelBiasTransient => {
+                    close3(m, [0.0, 30.0 * UG, 0.0]) && time_constant_s == 1800.0
+                }
+                _ => false,
+            },
         };
         assert!(ok, "{spec:?}");
     }
@@ -222,6 +267,21 @@ fn awkward(kind: EffectKind, n: usize) -> EffectSpec {
         EffectSpec::AccelBiasStep { step_mps2, .. } => EffectSpec::AccelBiasStep {
             step_mps2,
             time_s: 1e5 / 3.0,
+        },
+        // Steps and ramps have no time constant (their files none): the default stays.
+        EffectSpec::BiasEvent {
+            kind,
+            magnitude_si,
+            time_constant_s,
+            ..
+        } => EffectSpec::BiasEvent {
+            kind,
+            magnitude_si,
+            onset_s: 1e5 / 7.0,
+            time_constant_s: match kind {
+                EffectKind::GyroBiasTransient | EffectKind::AccelBiasTransient => 1e4 / 3.0,
+                _ => time_constant_s,
+            },
         },
         s => s,
     }

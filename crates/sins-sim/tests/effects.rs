@@ -71,6 +71,14 @@ fn spec_of(kind: EffectKind) -> EffectSpec {
             step_mps2,
             time_s: 5.0,
         },
+        EffectSpec::BiasEvent {
+            kind, magnitude_si, ..
+        } => EffectSpec::BiasEvent {
+            kind,
+            magnitude_si,
+            onset_s: 1.003,
+            time_constant_s: 2.0,
+        },
         EffectSpec::GyroBiasRandomWalk {
             intensity_radps_per_sqrt_s,
             correlation_s,

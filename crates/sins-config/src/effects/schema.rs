@@ -20,6 +20,8 @@ pub(super) enum Aux {
     PhaseDeg,
     /// `time_s` (optional, default 7200 s).
     TimeS,
+    /// `time_constant_s` (optional, default 1800 s; > 0).
+    TimeConstantS,
 }
 
 impl Aux {
@@ -31,6 +33,7 @@ impl Aux {
             Aux::PeriodS => "period_s",
             Aux::PhaseDeg => "phase_deg",
             Aux::TimeS => "time_s",
+            Aux::TimeConstantS => "time_constant_s",
         }
     }
 
@@ -69,6 +72,13 @@ pub(super) fn schema(kind: EffectKind) -> (&'static [&'static str], &'static [Au
         }
         EffectKind::AccelBiasStep => (&["step_ug"], &[Aux::TimeS]),
         EffectKind::AccelCrossCoupling => (&["coeff_ug_per_g2"], &[]),
+        EffectKind::GyroBiasStep => (&["step_deg_per_h"], &[Aux::TimeS]),
+        EffectKind::GyroBiasRamp => (&["rate_deg_per_h_per_h"], &[Aux::TimeS]),
+        EffectKind::AccelBiasRamp => (&["rate_ug_per_h"], &[Aux::TimeS]),
+        EffectKind::GyroBiasTransient => {
+            (&["amplitude_deg_per_h"], &[Aux::TimeS, Aux::TimeConstantS])
+        }
+        EffectKind::AccelBiasTransient => (&["amplitude_ug"], &[Aux::TimeS, Aux::TimeConstantS]),
     }
 }
 
@@ -101,6 +111,13 @@ pub(super) fn get_aux(spec: &EffectSpec, aux: Aux) -> (f64, u64) {
         (EffectSpec::GyroBiasOscillation { period_s, .. }, Aux::PeriodS) => (*period_s, 0),
         (EffectSpec::GyroBiasOscillation { phase_rad, .. }, Aux::PhaseDeg) => (*phase_rad, 0),
         (EffectSpec::AccelBiasStep { time_s, .. }, Aux::TimeS) => (*time_s, 0),
+        (EffectSpec::BiasEvent { onset_s, .. }, Aux::TimeS) => (*onset_s, 0),
+        (
+            EffectSpec::BiasEvent {
+                time_constant_s, ..
+            },
+            Aux::TimeConstantS,
+        ) => (*time_constant_s, 0),
         _ => (0.0, 0),
     }
 }
@@ -126,6 +143,13 @@ pub(super) fn set_aux(spec: &mut EffectSpec, aux: Aux, value: f64, seed_value: u
         (EffectSpec::GyroBiasOscillation { period_s, .. }, Aux::PeriodS) => *period_s = value,
         (EffectSpec::GyroBiasOscillation { phase_rad, .. }, Aux::PhaseDeg) => *phase_rad = value,
         (EffectSpec::AccelBiasStep { time_s, .. }, Aux::TimeS) => *time_s = value,
+        (EffectSpec::BiasEvent { onset_s, .. }, Aux::TimeS) => *onset_s = value,
+        (
+            EffectSpec::BiasEvent {
+                time_constant_s, ..
+            },
+            Aux::TimeConstantS,
+        ) => *time_constant_s = value,
         _ => {}
     }
 }

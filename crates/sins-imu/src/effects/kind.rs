@@ -86,6 +86,16 @@ pub enum EffectKind {
     AccelBiasStep,
     /// Outside the catalogue: [`crate::effects::nonlinearity::AccelCrossCoupling`].
     AccelCrossCoupling,
+    /// Outside the catalogue, time-local: a gyro bias step ([`crate::effects::time_local`]).
+    GyroBiasStep,
+    /// Outside the catalogue, time-local: a gyro bias ramp from an onset.
+    GyroBiasRamp,
+    /// Outside the catalogue, time-local: an accelerometer bias ramp from an onset.
+    AccelBiasRamp,
+    /// Outside the catalogue, time-local: a decaying gyro bias transient.
+    GyroBiasTransient,
+    /// Outside the catalogue, time-local: a decaying accelerometer bias transient.
+    AccelBiasTransient,
 }
 
 const XYZ: &[&str] = &["x", "y", "z"];
@@ -94,10 +104,11 @@ const LEVER: &[&str] = &[
 ];
 const SQRT_S_PER_SQRT_H: f64 = 60.0;
 const S_PER_MIN: f64 = 60.0;
+const S_PER_H: f64 = 3600.0;
 
 impl EffectKind {
     /// Every kind, in a fixed order (the catalogue first, then those outside it).
-    pub const ALL: [EffectKind; 15] = [
+    pub const ALL: [EffectKind; 20] = [
         EffectKind::AccelBiasQuadraticTemp,
         EffectKind::GyroBiasTemp,
         EffectKind::AccelBiasTempRate,
@@ -113,6 +124,11 @@ impl EffectKind {
         EffectKind::GyroBiasOscillation,
         EffectKind::AccelBiasStep,
         EffectKind::AccelCrossCoupling,
+        EffectKind::GyroBiasStep,
+        EffectKind::GyroBiasRamp,
+        EffectKind::AccelBiasRamp,
+        EffectKind::GyroBiasTransient,
+        EffectKind::AccelBiasTransient,
     ];
 
     /// The kinds the diagnosis considers (every kind with [`Self::in_catalogue`]), in
@@ -139,6 +155,11 @@ impl EffectKind {
             EffectKind::GyroBiasOscillation => "gyro_bias_oscillation",
             EffectKind::AccelBiasStep => "accel_bias_step",
             EffectKind::AccelCrossCoupling => "accel_cross_coupling",
+            EffectKind::GyroBiasStep => "gyro_bias_step",
+            EffectKind::GyroBiasRamp => "gyro_bias_ramp",
+            EffectKind::AccelBiasRamp => "accel_bias_ramp",
+            EffectKind::GyroBiasTransient => "gyro_bias_transient",
+            EffectKind::AccelBiasTransient => "accel_bias_transient",
         }
     }
 
@@ -181,6 +202,15 @@ impl EffectKind {
             EffectKind::AccelCrossCoupling => {
                 "accelerometer cross-axis coupling c_j f_(j+1) f_(j+2)"
             }
+            EffectKind::GyroBiasStep => "gyro bias step at a given time",
+            EffectKind::GyroBiasRamp => "gyro bias drifting linearly from a given time",
+            EffectKind::AccelBiasRamp => "accelerometer bias drifting linearly from a given time",
+            EffectKind::GyroBiasTransient => {
+                "gyro bias jump at a given time decaying with a time constant (turn-on transient)"
+            }
+            EffectKind::AccelBiasTransient => {
+                "accelerometer bias jump at a given time decaying with a time constant"
+            }
         }
     }
 
@@ -192,7 +222,10 @@ impl EffectKind {
             | EffectKind::GyroScaleAsymmetry
             | EffectKind::GyroGSensitivity
             | EffectKind::GyroBiasRandomWalk
-            | EffectKind::GyroBiasOscillation => Sensor::Gyro,
+            | EffectKind::GyroBiasOscillation
+            | EffectKind::GyroBiasStep
+            | EffectKind::GyroBiasRamp
+            | EffectKind::GyroBiasTransient => Sensor::Gyro,
             _ => Sensor::Accel,
         }
     }
@@ -227,8 +260,12 @@ impl EffectKind {
             EffectKind::AccelBiasRandomWalk => {
                 u("ug/sqrt(h)", UG / SQRT_S_PER_SQRT_H, "m/s^2/sqrt(s)")
             }
-            EffectKind::GyroBiasOscillation => u("deg/h", DEG_PER_H, "rad/s"),
-            EffectKind::AccelBiasStep => u("ug", UG, "m/s^2"),
+            EffectKind::GyroBiasOscillation
+            | EffectKind::GyroBiasStep
+            | EffectKind::GyroBiasTransient => u("deg/h", DEG_PER_H, "rad/s"),
+            EffectKind::AccelBiasStep | EffectKind::AccelBiasTransient => u("ug", UG, "m/s^2"),
+            EffectKind::GyroBiasRamp => u("deg/h/h", DEG_PER_H / S_PER_H, "rad/s/s"),
+            EffectKind::AccelBiasRamp => u("ug/h", UG / S_PER_H, "m/s^2/s"),
         }
     }
 
@@ -278,6 +315,14 @@ impl EffectKind {
             EffectKind::GyroBiasOscillation => 5e-3,
             EffectKind::AccelBiasStep => 20.0,
             EffectKind::AccelCrossCoupling => 20.0,
+            // A laser-gyro bias jump: a few times its 0.0005 deg/h stability.
+            EffectKind::GyroBiasStep => 2e-3,
+            // Bias drift after a thermal event: 0.001 deg/h per hour, 10 ug per hour.
+            EffectKind::GyroBiasRamp => 1e-3,
+            EffectKind::AccelBiasRamp => 10.0,
+            // Turn-on transient: 0.01 deg/h decaying over tens of minutes; accelerometer 30 ug.
+            EffectKind::GyroBiasTransient => 1e-2,
+            EffectKind::AccelBiasTransient => 30.0,
         }
     }
 
@@ -294,6 +339,20 @@ impl EffectKind {
             EffectKind::GyroBiasOscillation
                 | EffectKind::AccelBiasStep
                 | EffectKind::AccelCrossCoupling
+        ) && !self.is_time_local()
+    }
+
+    /// True for the kinds that act from an onset time on (steps, ramps, transients): outside
+    /// the catalogue, found by the diagnosis's scan over onset time.
+    pub fn is_time_local(self) -> bool {
+        matches!(
+            self,
+            EffectKind::AccelBiasStep
+                | EffectKind::GyroBiasStep
+                | EffectKind::GyroBiasRamp
+                | EffectKind::AccelBiasRamp
+                | EffectKind::GyroBiasTransient
+                | EffectKind::AccelBiasTransient
         )
     }
 

@@ -44,6 +44,7 @@ pub mod size_effect;
 pub mod spec;
 pub mod temperature;
 pub mod thermal_lag;
+pub mod time_local;
 pub mod timing;
 
 pub use context::{ContextTracker, EffectContext};

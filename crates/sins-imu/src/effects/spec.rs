@@ -12,6 +12,7 @@ use super::temperature::{
     AccelBiasQuadraticTemp, AccelBiasTempRate, GyroBiasTemp, GyroBiasTempRate,
 };
 use super::thermal_lag::ThermalLag;
+use super::time_local::{BiasEvent, EventShape};
 use super::timing::AccelTimeOffset;
 use crate::params::ImuErrorParams;
 use sins_nav::Vec3;
@@ -22,6 +23,8 @@ pub const DEFAULT_REFERENCE_DEGC: f64 = 20.0;
 pub const DEFAULT_OSCILLATION_PERIOD_S: f64 = 2700.0;
 /// Time (s) of the accelerometer bias step built by [`EffectSpec::unit`] (2 h).
 pub const DEFAULT_STEP_TIME_S: f64 = 7200.0;
+/// Time constant (s) of the bias transients built by [`EffectSpec::unit`] (30 min).
+pub const DEFAULT_TRANSIENT_TIME_CONSTANT_S: f64 = 1800.0;
 
 /// A data description of one extra effect (what experiment files name), buildable into the
 /// [`ExtraEffect`] the forward model applies. Values in SI. The *magnitude components* (see
@@ -123,6 +126,19 @@ pub enum EffectSpec {
         /// Coefficient per axis (1/(m/s^2)).
         coeff_per_mps2: Vec3,
     },
+    /// See [`BiasEvent`] (outside the catalogue, time-local): the kinds
+    /// [`EffectKind::GyroBiasStep`], [`EffectKind::GyroBiasRamp`], [`EffectKind::AccelBiasRamp`],
+    /// [`EffectKind::GyroBiasTransient`] and [`EffectKind::AccelBiasTransient`].
+    BiasEvent {
+        /// Which of the five kinds.
+        kind: EffectKind,
+        /// Magnitude per axis (SI: rad/s or m/s², a ramp's per second).
+        magnitude_si: Vec3,
+        /// Onset (s).
+        onset_s: f64,
+        /// Time constant of a transient (s, > 0; ignored by steps and ramps).
+        time_constant_s: f64,
+    },
 }
 
 impl EffectSpec {
@@ -144,6 +160,7 @@ impl EffectSpec {
             EffectSpec::GyroBiasOscillation { .. } => EffectKind::GyroBiasOscillation,
             EffectSpec::AccelBiasStep { .. } => EffectKind::AccelBiasStep,
             EffectSpec::AccelCrossCoupling { .. } => EffectKind::AccelCrossCoupling,
+            EffectSpec::BiasEvent { kind, .. } => *kind,
         }
     }
 
@@ -217,6 +234,16 @@ impl EffectSpec {
                 time_s: DEFAULT_STEP_TIME_S,
             },
             EffectKind::AccelCrossCoupling => EffectSpec::AccelCrossCoupling { coeff_per_mps2: z },
+            EffectKind::GyroBiasStep
+            | EffectKind::GyroBiasRamp
+            | EffectKind::AccelBiasRamp
+            | EffectKind::GyroBiasTransient
+            | EffectKind::AccelBiasTransient => EffectSpec::BiasEvent {
+                kind,
+                magnitude_si: z,
+                onset_s: DEFAULT_STEP_TIME_S,
+                time_constant_s: DEFAULT_TRANSIENT_TIME_CONSTANT_S,
+            },
         }
     }
 
@@ -286,6 +313,11 @@ impl EffectSpec {
                 ..
             } => period_s.is_finite() && period_s > 0.0 && phase_rad.is_finite(),
             EffectSpec::AccelBiasStep { time_s, .. } => time_s.is_finite(),
+            EffectSpec::BiasEvent {
+                onset_s,
+                time_constant_s,
+                ..
+            } => onset_s.is_finite() && time_constant_s.is_finite() && time_constant_s > 0.0,
             _ => true,
         }
     }
@@ -364,6 +396,17 @@ impl EffectSpec {
             EffectSpec::AccelCrossCoupling { coeff_per_mps2 } => {
                 Box::new(AccelCrossCoupling { coeff_per_mps2 })
             }
+            EffectSpec::BiasEvent {
+                kind,
+                magnitude_si,
+                onset_s,
+                time_constant_s,
+            } => Box::new(BiasEvent {
+                sensor: kind.sensor(),
+                magnitude: magnitude_si,
+                onset_s,
+                shape: event_shape(kind, time_constant_s),
+            }),
         }
     }
 
@@ -411,10 +454,24 @@ impl EffectSpec {
                 amplitude_radps: v, ..
             }
             | EffectSpec::AccelBiasStep { step_mps2: v, .. }
-            | EffectSpec::AccelCrossCoupling { coeff_per_mps2: v } => v,
+            | EffectSpec::AccelCrossCoupling { coeff_per_mps2: v }
+            | EffectSpec::BiasEvent {
+                magnitude_si: v, ..
+            } => v,
         };
         for (i, m) in v.iter_mut().enumerate() {
             f(i, m);
         }
+    }
+}
+
+/// The time profile of a time-local kind (a step for any other kind).
+pub fn event_shape(kind: EffectKind, time_constant_s: f64) -> EventShape {
+    match kind {
+        EffectKind::GyroBiasRamp | EffectKind::AccelBiasRamp => EventShape::Ramp,
+        EffectKind::GyroBiasTransient | EffectKind::AccelBiasTransient => {
+            EventShape::Transient { time_constant_s }
+        }
+        _ => EventShape::Step,
     }
 }
