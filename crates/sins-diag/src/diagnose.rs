@@ -4,8 +4,12 @@
 
 use crate::absorb::{Absorption, CalibrationRun, absorption};
 use crate::calib::{ParamUncertainty, uncertainty};
+use crate::candidates::RegressionFit;
 use crate::constancy::{Winner as ConstancyWinner, constancy};
 use crate::error::DiagError;
+use crate::events::{
+    EventScan, EventSignal, ScanRun, TimeLocalEvent, chi2_with, scan_with_signals,
+};
 use crate::input::{DiagnoseConfig, DiagnosisInput, RunData};
 use crate::localise::{GapSeries, localise};
 use crate::noise::NoiseSpec;
@@ -17,9 +21,13 @@ use crate::rank::{
 };
 use crate::refine::{RefineStart, Refinement, refine};
 use crate::replay::temperature_series;
+use crate::report::Verdict;
 use crate::report::{Diagnosis, RunSeries};
 use crate::sensitivity::{ColumnId, RunSensitivity, SensitivitySetup, run_sensitivity};
+use crate::stats::chi2_sf;
 use crate::validate::{EvalRun, OutputColumns, Winner, validate};
+use crate::walk::fit_walk;
+use nalgebra::{DMatrix, DVector};
 use sins_imu::ImuErrorParams;
 use sins_imu::{EffectKind, Linearity};
 use sins_replay::ErrorPoint;
@@ -367,6 +375,31 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         }
     }
     finish_ranking(&mut ranked, ctx.n, cfg);
+    let scope = ScanScope {
+        refinements: &refinements,
+        walks: &walks,
+        sens: &sens,
+        data: &data,
+        n_tests: ctx.n_tests,
+    };
+    let (events, signals) = time_local_events(&mut ranked, &scope, cfg, &mut notes)?;
+    finish_ranking(&mut ranked, ctx.n, cfg);
+    if let Some(again) =
+        ranked_without_events(&ranked, &events, &signals, &scope, &layouts, floor_var, cfg)?
+    {
+        notes.push(format!(
+            "catalogue ranked again on the gap less the {} time-local event(s) outside it: the \
+             leader was {}, it is now {}",
+            events
+                .events
+                .iter()
+                .filter(|e| e.explained_by.is_none())
+                .count(),
+            leader(&ranked),
+            leader(&again)
+        ));
+        ranked = again;
+    }
     let names: Vec<String> = input.runs.iter().map(|r| r.name.clone()).collect();
     if let Some(best) = ranked.iter_mut().find(|e| e.report.passes)
         && let Some((l, rf)) = &best.regression
@@ -392,7 +425,7 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
             cfg.alpha,
         );
     }
-    let verdict = verdict(&problem, &ranked, &null, cfg);
+    let verdict = with_events(verdict(&problem, &ranked, &null, cfg), &events, &mut notes);
     // Localisation.
     let schuler = (sens[0].model.earth.gravity_mps2 / sens[0].model.earth.meridian_plus_h_m).sqrt();
     let mut localisation = Vec::new();
@@ -474,6 +507,7 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         validation = validate(&w, fit_data, &eval, floor_var)?;
     }
     Ok(Diagnosis {
+        events,
         n_data: n,
         null_test: null,
         candidates: ranked.into_iter().map(|e| e.report).collect(),
@@ -483,6 +517,253 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         series: run_series,
         notes,
     })
+}
+
+/// What the time-local scan needs from the diagnosis.
+struct ScanScope<'a> {
+    refinements: &'a [Refinement],
+    walks: &'a [(EffectKind, usize)],
+    sens: &'a [RunSensitivity],
+    data: &'a [RunFitData],
+    n_tests: f64,
+}
+
+/// The scan's runs against a deterministic winner's fit (refined if it was), or the twin alone;
+/// the other deterministic candidates with their linear fits, to tell whether one explains an
+/// event.
+fn scan_runs<'a>(
+    winner: Option<&Evaluated>,
+    ranked: &[Evaluated],
+    sc: &ScanScope<'a>,
+) -> Vec<ScanRun<'a>> {
+    let candidates: Vec<(String, &Layout, &RegressionFit)> = ranked
+        .iter()
+        .filter_map(|e| {
+            e.regression
+                .as_ref()
+                .map(|(l, rf)| (e.kind.name().to_string(), l, rf))
+        })
+        .collect();
+    let det = winner.and_then(|w| w.regression.as_ref());
+    let refined = det.and_then(|(l, _)| sc.refinements.iter().find(|r| r.layout.kind == l.kind));
+    let fit_data: &[RunFitData] = refined.map_or(sc.data, |r| &r.data);
+    fit_data
+        .iter()
+        .zip(sc.sens)
+        .map(|(fd, s)| {
+            let mut residual = fd.gap.clone();
+            let mut nuisance = DMatrix::zeros(fd.gap.len(), 0);
+            if let Some((l, rf)) = det {
+                let offset = refined.map_or(vec![0.0; rf.retained.len()], |r| r.theta_lin.clone());
+                let cols: Vec<usize> = rf.retained.iter().map(|&c| l.first + c).collect();
+                nuisance = fd.columns.select_columns(cols.iter());
+                for (i, &c) in cols.iter().enumerate() {
+                    residual.axpy(-(rf.fit.theta[i] - offset[i]), &fd.columns.column(c), 1.0);
+                }
+            }
+            ScanRun {
+                sens: s,
+                fit: fd,
+                residual,
+                nuisance,
+                extra_cov: None,
+                candidates: candidates
+                    .iter()
+                    .map(|(name, l, rf)| {
+                        let mut c = DVector::zeros(fd.gap.len());
+                        for (i, &k) in rf.retained.iter().enumerate() {
+                            c.axpy(rf.fit.theta[i], &fd.columns.column(l.first + k), 1.0);
+                        }
+                        (name.clone(), c)
+                    })
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
+/// The time-local scan of every run (see [`crate::events`]) against the deterministic winner's
+/// fit, or the twin alone when a random walk or nothing won. A winning walk is then refitted on
+/// the gap less the events no deterministic candidate explains: if it is no longer significant
+/// and the events explain more beyond their threshold than the walk beyond its own, its
+/// evidence was the events (a step or a transient is not a walk) and it is refused; otherwise
+/// each of those events that the fitted walk's covariance makes insignificant is explained by
+/// the walk.
+fn time_local_events(
+    ranked: &mut [Evaluated],
+    sc: &ScanScope<'_>,
+    cfg: &DiagnoseConfig,
+    notes: &mut Vec<String>,
+) -> Result<(EventScan, Vec<EventSignal>), DiagError> {
+    let winner = ranked.first().filter(|e| e.report.passes);
+    let runs = scan_runs(winner, ranked, sc);
+    let (mut events, signals) = scan_with_signals(&runs, &cfg.events)?;
+    let walk = winner
+        .filter(|w| w.regression.is_none())
+        .and_then(|w| sc.walks.iter().find(|(k, _)| *k == w.kind).copied());
+    // The events no deterministic candidate explains.
+    let outside: Vec<usize> = (0..signals.len())
+        .filter(|&i| events.events[i].explained_by.is_none())
+        .collect();
+    let (Some((kind, first)), false) = (walk, outside.is_empty()) else {
+        return Ok((events, signals));
+    };
+    // The walk refitted on the gap less those events.
+    let mut corrected: Vec<RunFitData> = sc.data.to_vec();
+    for &i in &outside {
+        let e = &signals[i];
+        corrected[e.run].gap -= &e.contribution;
+    }
+    let p2 = Problem::new(&corrected.iter().collect::<Vec<_>>())?;
+    let dchi2 = (0..3)
+        .map(|a| {
+            let b = first + a;
+            fit_walk(
+                &p2,
+                &p2.walks[b],
+                &p2.walk_blocks[b],
+                kind.typical_magnitude_si(),
+            )
+            .dchi2
+        })
+        .fold(0.0, f64::max);
+    let p_value = (0.5 * chi2_sf(dchi2, 1.0) * sc.n_tests).min(1.0);
+    // Which explains more beyond its own significance threshold: the walk (one intensity) or
+    // the events (each found among every onset, shape and axis)?
+    let thr_walk = crate::stats::chi2_isf(2.0 * cfg.alpha / sc.n_tests, 1.0);
+    let top = &mut ranked[0].report;
+    let walk_excess = top.dchi2 - thr_walk;
+    let events_excess: f64 = outside
+        .iter()
+        .map(|&i| events.events[i].chi2 - events.threshold_chi2)
+        .sum();
+    if let Some(w) = top.whiteness.as_mut() {
+        w.without_events_dchi2 = Some(dchi2);
+    }
+    if p_value >= cfg.alpha && events_excess > walk_excess {
+        notes.push(format!(
+            "{}: refused; with the {} time-local event(s) outside the catalogue removed its \
+             chi-square drop falls from {:.1} to {:.1} (p {:.2}), and the events explain more \
+             beyond their threshold ({:.1}) than the walk beyond its own ({:.1}): the walk was \
+             absorbing them",
+            kind.name(),
+            outside.len(),
+            top.dchi2,
+            dchi2,
+            p_value,
+            events_excess,
+            walk_excess
+        ));
+        if let Some(w) = top.whiteness.as_mut() {
+            w.consistent = false;
+        }
+        return Ok((events, signals));
+    }
+    let unit = kind.unit();
+    for &i in &outside {
+        let e = &signals[i];
+        let r = &runs[e.run];
+        let mut cov = DMatrix::zeros(r.residual.len(), r.residual.len());
+        for (a, c) in top.components.iter().enumerate() {
+            if let Some(v) = r.fit.walks.get(first + a).filter(|_| c.retained) {
+                cov += v * v.transpose() * unit.to_si(c.value).powi(2);
+            }
+        }
+        let others: Vec<&DVector<f64>> = signals
+            .iter()
+            .enumerate()
+            .filter(|(j, o)| *j != i && o.run == e.run)
+            .map(|(_, o)| &o.contribution)
+            .collect();
+        if chi2_with(r, &cov, &e.contribution, &others)? < events.threshold_chi2 {
+            events.events[i].explained_by = Some(kind.name().to_string());
+        }
+    }
+    Ok((events, signals))
+}
+
+/// The leading passing candidate's name, or `none`.
+fn leader(ranked: &[Evaluated]) -> &str {
+    ranked
+        .first()
+        .filter(|e| e.report.passes)
+        .map_or("none", |e| e.report.kind.as_str())
+}
+
+/// The catalogue ranked on the gap less the events no catalogue term explains, when that
+/// changes the leader (an effect local in time pulls the fit of slow catalogue signatures: a
+/// turn-on transient passes for a g-sensitivity); `None` when there is no such event or the
+/// leader stays (the first ranking keeps its refinements).
+fn ranked_without_events(
+    ranked: &[Evaluated],
+    events: &EventScan,
+    signals: &[EventSignal],
+    sc: &ScanScope<'_>,
+    layouts: &[Layout],
+    floor_var: f64,
+    cfg: &DiagnoseConfig,
+) -> Result<Option<Vec<Evaluated>>, DiagError> {
+    let outside: Vec<&EventSignal> = signals
+        .iter()
+        .zip(&events.events)
+        .filter(|(_, e)| e.explained_by.is_none())
+        .map(|(s, _)| s)
+        .collect();
+    if outside.is_empty() {
+        return Ok(None);
+    }
+    let mut corrected: Vec<RunFitData> = sc.data.to_vec();
+    for e in outside {
+        corrected[e.run].gap -= &e.contribution;
+    }
+    let p2 = Problem::new(&corrected.iter().collect::<Vec<_>>())?;
+    let (mean, var) = p2.null_moments(floor_var);
+    let again = evaluate(
+        &p2,
+        layouts,
+        sc.walks,
+        &NullDist::from_moments(mean, var),
+        cfg,
+    );
+    Ok((leader(&again) != leader(ranked)).then_some(again))
+}
+
+/// The verdict once the time-local events are known: an event no catalogue term explains is a
+/// gap the catalogue leaves (none -> unexplained, explained -> partly explained).
+fn with_events(verdict: Verdict, events: &EventScan, notes: &mut Vec<String>) -> Verdict {
+    let outside: Vec<&TimeLocalEvent> = events
+        .events
+        .iter()
+        .filter(|e| e.explained_by.is_none())
+        .collect();
+    if events.tests > 0 {
+        notes.push(format!(
+            "time-local scan: {} tests (steps, ramps, transients of {:?} s on six axes, every \
+             onset), Bonferroni threshold chi2 {:.1}; {} event(s), {} outside the catalogue",
+            events.tests,
+            events
+                .detectable
+                .iter()
+                .filter_map(|d| d.time_constant_s)
+                .fold(Vec::<f64>::new(), |mut v, t| {
+                    if !v.contains(&t) {
+                        v.push(t);
+                    }
+                    v
+                }),
+            events.threshold_chi2,
+            events.events.len(),
+            outside.len()
+        ));
+    }
+    if outside.is_empty() {
+        return verdict;
+    }
+    match verdict {
+        Verdict::NoSignificantGap => Verdict::Unexplained,
+        Verdict::Explained { by } => Verdict::PartlyExplained { by },
+        v => v,
+    }
 }
 
 /// The winner's fit data and columns about its linearisation point (zero, or the refined

@@ -107,6 +107,8 @@ pub struct DiagnoseConfig {
     pub refine_within: f64,
     /// Worker threads (runs are processed in parallel; results do not depend on it).
     pub threads: usize,
+    /// The scan for effects local in time (steps, ramps, transients).
+    pub events: crate::events::EventScanConfig,
 }
 
 impl Default for DiagnoseConfig {
@@ -130,6 +132,7 @@ impl Default for DiagnoseConfig {
             refine_competitive: 10.0,
             refine_within: 100.0,
             threads: 2,
+            events: crate::events::EventScanConfig::default(),
         }
     }
 }

@@ -65,6 +65,7 @@ pub mod columns;
 pub mod constancy;
 pub mod diagnose;
 pub mod error;
+pub mod events;
 pub mod gls;
 pub mod input;
 pub mod localise;

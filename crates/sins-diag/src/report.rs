@@ -128,10 +128,21 @@ pub struct WhitenessTest {
     pub increments: usize,
     /// Standardised lag-one correlation sum of neighbouring increments.
     pub lag1_z: f64,
-    /// Tail probability of the more extreme statistic under the walk (Bonferroni).
+    /// Stationarity of the increments' variance, first half against second half (z).
+    #[serde(default)]
+    pub stationarity_z: f64,
+    /// Largest cross-run alignment of the increments at the same time since turn-on (z).
+    #[serde(default)]
+    pub aligned_z: f64,
+    /// Tail probability of the most extreme statistic under the walk (Bonferroni).
     pub p_value: f64,
-    /// True when `p_value` is above the configured level: the fit looks like a walk.
+    /// True when `p_value` is above the configured level: the fit looks like a walk (and its
+    /// evidence does not vanish once the time-local events are removed).
     pub consistent: bool,
+    /// The walk's chi-square drop refitted on the gap less the time-local events, when there
+    /// were events and the walk led.
+    #[serde(default)]
+    pub without_events_dchi2: Option<f64>,
 }
 
 /// The conclusion.
@@ -302,4 +313,8 @@ pub struct Diagnosis {
     pub series: Vec<RunSeries>,
     /// Notes on assumptions and anything skipped.
     pub notes: Vec<String>,
+    /// The time-local scan: events (steps, ramps, transients with their onset) and the
+    /// detectable levels through each run.
+    #[serde(default)]
+    pub events: crate::events::EventScan,
 }

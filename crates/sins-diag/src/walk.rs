@@ -40,9 +40,18 @@ pub struct WalkShape {
     /// The lag-one sum `Σ z_j z_(j+1)` over neighbouring increments of the same run, less its
     /// mean under the walk, over its standard deviation under the walk.
     pub lag1_z: f64,
-    /// Tail probability of the more extreme of the two statistics under the walk: Bonferroni
-    /// over the increments for the largest |z|, Gaussian for the lag-one sum, times two for
-    /// the two tests.
+    /// Stationarity: the mean squared standardised increment of each run's first half less
+    /// that of its second half, summed over runs, over its standard deviation under the walk
+    /// (exact for Gaussian increments with covariance `C`). A walk's increments have the same
+    /// variance throughout; a turn-on transient concentrates them at the start.
+    pub stationarity_z: f64,
+    /// Cross-run alignment: the largest `|Σ_r z_(r,j)| / √R` over increment indices `j` (time
+    /// since the start of navigation) held by at least two runs. Independent walks do not
+    /// move together in every run at the same time; an effect tied to turn-on does.
+    pub aligned_z: f64,
+    /// Tail probability of the most extreme of the four statistics under the walk: Bonferroni
+    /// over the increments for the largest |z| and the alignment, Gaussian for the lag-one sum
+    /// and the stationarity, times four for the four tests.
     pub p_value: f64,
 }
 
@@ -186,12 +195,90 @@ pub fn whiteness(w: &DVector<f64>, c: &DMatrix<f64>, blocks: &[usize]) -> Option
     } else {
         chi2_sf(lag1_z * lag1_z, 1.0)
     };
+    let stationarity_z = stationarity(&z, c, &live, &sd, blocks);
+    let (aligned_z, aligned_tests) = alignment(&z, &live, blocks);
+    let p_stat = chi2_sf(stationarity_z * stationarity_z, 1.0);
+    let p_align = (chi2_sf(aligned_z * aligned_z, 1.0) * aligned_tests.max(1) as f64).min(1.0);
     Some(WalkShape {
         max_abs_z,
         increments,
         lag1_z,
-        p_value: (2.0 * p_max.min(p_lag)).min(1.0),
+        stationarity_z,
+        aligned_z,
+        p_value: (4.0 * p_max.min(p_lag).min(p_stat).min(p_align)).min(1.0),
     })
+}
+
+/// Runs' increments (after each run's aligned constant) that the data resolve, as index lists.
+fn run_increments(live: &[bool], blocks: &[usize]) -> Vec<Vec<usize>> {
+    let mut first = 0;
+    blocks
+        .iter()
+        .map(|&b| {
+            let idx = (first + 1..first + b).filter(|&j| live[j]).collect();
+            first += b;
+            idx
+        })
+        .collect()
+}
+
+/// See [`WalkShape::stationarity_z`]: with `ρ` the correlation of the standardised increments,
+/// `Var(Σ_A z²) = 2 Σ_(A×A) ρ²`, so `Var(mean_A z² − mean_B z²)` follows exactly.
+fn stationarity(z: &[f64], c: &DMatrix<f64>, live: &[bool], sd: &[f64], blocks: &[usize]) -> f64 {
+    let rho2 = |i: usize, j: usize| (c[(i, j)] / (sd[i] * sd[j])).powi(2);
+    let (mut d, mut var) = (0.0, 0.0);
+    for idx in run_increments(live, blocks) {
+        if idx.len() < 4 {
+            continue;
+        }
+        let (a, b) = idx.split_at(idx.len() / 2);
+        let (na, nb) = (a.len() as f64, b.len() as f64);
+        let mean = |s: &[usize]| s.iter().map(|&j| z[j] * z[j]).sum::<f64>() / s.len() as f64;
+        d += mean(a) - mean(b);
+        let sum = |x: &[usize], y: &[usize]| -> f64 {
+            x.iter()
+                .map(|&i| y.iter().map(|&j| rho2(i, j)).sum::<f64>())
+                .sum()
+        };
+        var += 2.0 * (sum(a, a) / (na * na) + sum(b, b) / (nb * nb) - 2.0 * sum(a, b) / (na * nb));
+    }
+    if var > 0.0 { d / var.sqrt() } else { 0.0 }
+}
+
+/// See [`WalkShape::aligned_z`]; also the number of indices tested.
+fn alignment(z: &[f64], live: &[bool], blocks: &[usize]) -> (f64, usize) {
+    let runs = run_increments(live, blocks);
+    let mut first = 0;
+    let offsets: Vec<usize> = blocks
+        .iter()
+        .map(|&b| {
+            let o = first + 1;
+            first += b;
+            o
+        })
+        .collect();
+    let longest = blocks
+        .iter()
+        .map(|b| b.saturating_sub(1))
+        .max()
+        .unwrap_or(0);
+    let (mut top, mut tests) = (0.0f64, 0);
+    if runs.len() < 2 {
+        return (0.0, 0);
+    }
+    for j in 0..longest {
+        let members: Vec<f64> = offsets
+            .iter()
+            .zip(blocks)
+            .filter(|(o, b)| j + 1 < **b && live[**o + j])
+            .map(|(o, _)| z[*o + j])
+            .collect();
+        if members.len() >= 2 {
+            tests += 1;
+            top = top.max(members.iter().sum::<f64>().abs() / (members.len() as f64).sqrt());
+        }
+    }
+    (top, tests)
 }
 
 /// Maximum-likelihood intensity of a random walk with whitened factor `v` (columns in runs of

@@ -1,0 +1,799 @@
+//! Effects local in time: a generalised likelihood ratio (GLR) scan over onset time for bias
+//! steps, ramps and exponential transients on each of the six sensor axes, run by run, beside
+//! the global tests.
+//!
+//! # Signals
+//! After the start of navigation the error model is time-invariant, so the position response
+//! to a unit bias on axis `b` switched on at `t_m` is `S_m(t) = H (X(t) − Φ(t − t_m) X(t_m))`
+//! with `X` the response to a constant bias from the first sample (the sensitivity pass's
+//! bias states, alignment included) and `Φ` the model's transition. Onsets lie on a grid of
+//! spacing `Δ` from the start of navigation; the other shapes are sums of steps:
+//! - ramp of unit rate from `t_m`: `R_m = R_{m+1} + Δ (S_m + S_{m+1}) / 2` (trapezoid);
+//! - transient `e^{−(t − t_m)/τ}` (interval means `c d^k`, `d = e^{−Δ/τ}`,
+//!   `c = τ (1 − d)/Δ`): `T_m = c U_m`, `U_m = S_m − S_{m+1} + d U_{m+1}`;
+//! - turn-on transient (onset at the first sample, inside the alignment): the alignment
+//!   absorbs it as it absorbs a constant bias of its mean `b̄` over the alignment, the rest
+//!   acts from the start of navigation: `b̄ X + c b_ns U_ns − b̄ S_ns`. (An approximation of
+//!   the same order as the random walks' split of the alignment; see `problem::walk_factor`.)
+//!
+//! # Test
+//! Every signal is whitened with the run's own covariance (twin noise, the floor, the
+//! calibration uncertainty, and a fitted random walk when a walk won), the catalogue winner's
+//! columns are projected out, and `T = (ŝᵀ r̂)² / ŝᵀŝ` is computed against the residual `r̂` of
+//! the winner's fit: one degree of freedom per signal, `χ²(1)` under the null (at most: the
+//! floor is a tolerance larger than the white error the data carry). The family of tests is
+//! every onset, shape and axis of every run; a Bonferroni correction over that count keeps the
+//! family-wise false-alarm rate below `alpha` (conservative: neighbouring onsets are strongly
+//! correlated). The strongest significant signal of a run is an event; it joins the nuisance
+//! columns and the run is scanned again, up to `max_events_per_run`. An event is *explained*
+//! by a deterministic catalogue candidate when the gap less that candidate's fit (one magnitude
+//! for every run) leaves it insignificant.
+//!
+//! The onset's three-sigma interval holds the contiguous onsets whose `T` is within 9 of the
+//! maximum (profile likelihood); its one-sigma is a third of the interval's larger side, at
+//! least the grid's `Δ/√12`. The detectable level of a shape
+//! at an onset is the magnitude detected with 90 % probability at the corrected level:
+//! `(√T_thr + 1.2816)/√(ŝᵀŝ)`.
+
+use crate::error::DiagError;
+use crate::model::{Mat7, R_E, R_N, Vec7};
+use crate::problem::RunFitData;
+use crate::sensitivity::RunSensitivity;
+use crate::stats::{chi2_isf, chi2_sf};
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::{Mat, Par, Side};
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+use sins_imu::EffectKind;
+
+/// Settings of the scan.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct EventScanConfig {
+    /// Scan at all (false: no events, no detectable levels).
+    pub enabled: bool,
+    /// Onset grid spacing (s, a whole multiple of the output interval).
+    pub onset_every_s: usize,
+    /// Time constants of the transients tried (s).
+    pub time_constants_s: Vec<f64>,
+    /// Events per run at most.
+    pub max_events_per_run: usize,
+    /// Family-wise false-alarm level of the scan (all runs, onsets, shapes and axes).
+    pub alpha: f64,
+    /// Spacing of the onsets at which detectable levels are reported (s).
+    pub detectable_every_s: f64,
+}
+
+impl Default for EventScanConfig {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            onset_every_s: 120,
+            time_constants_s: vec![300.0, 600.0, 1200.0, 2400.0, 4800.0, 9600.0],
+            max_events_per_run: 3,
+            alpha: 1e-3,
+            detectable_every_s: 3600.0,
+        }
+    }
+}
+
+/// The shape of a time-local signal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape {
+    /// Bias step.
+    Step,
+    /// Bias ramp.
+    Ramp,
+    /// Exponential transient with time constant `tau_s`; `turn_on`: onset at the first sample.
+    Transient {
+        /// Time constant (s).
+        tau_s: f64,
+        /// Onset at turn-on (the first sample), not on the navigation grid.
+        turn_on: bool,
+    },
+}
+
+impl Shape {
+    /// The effect kind of this shape on `axis` (0-2 gyro, 3-5 accelerometer).
+    pub fn kind(self, axis: usize) -> EffectKind {
+        let gyro = axis < 3;
+        match (self, gyro) {
+            (Shape::Step, true) => EffectKind::GyroBiasStep,
+            (Shape::Step, false) => EffectKind::AccelBiasStep,
+            (Shape::Ramp, true) => EffectKind::GyroBiasRamp,
+            (Shape::Ramp, false) => EffectKind::AccelBiasRamp,
+            (Shape::Transient { .. }, true) => EffectKind::GyroBiasTransient,
+            (Shape::Transient { .. }, false) => EffectKind::AccelBiasTransient,
+        }
+    }
+
+    /// `step`, `ramp`, `transient` or `turn-on transient`.
+    pub fn label(self) -> &'static str {
+        match self {
+            Shape::Step => "step",
+            Shape::Ramp => "ramp",
+            Shape::Transient { turn_on: false, .. } => "transient",
+            Shape::Transient { turn_on: true, .. } => "turn-on transient",
+        }
+    }
+
+    fn tau_s(self) -> Option<f64> {
+        match self {
+            Shape::Transient { tau_s, .. } => Some(tau_s),
+            _ => None,
+        }
+    }
+}
+
+/// Names of the six axes.
+pub const AXES: [&str; 6] = [
+    "gyro x", "gyro y", "gyro z", "accel x", "accel y", "accel z",
+];
+
+/// One time-local event.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TimeLocalEvent {
+    /// Run name.
+    pub run: String,
+    /// Channel: `gyro x` ... `accel z` (body axes).
+    pub channel: String,
+    /// `step`, `ramp`, `transient` or `turn-on transient`.
+    pub shape: String,
+    /// The effect kind it is reported as (`gyro_bias_step` ...).
+    pub kind: String,
+    /// Onset (s, the run's time axis).
+    pub onset_s: f64,
+    /// One-sigma of the onset (s): a third of the larger side of `onset_interval_s`.
+    pub onset_sigma_s: f64,
+    /// Three-sigma profile-likelihood interval of the onset (s): the onsets whose `T` is
+    /// within 9 of the best.
+    pub onset_interval_s: [f64; 2],
+    /// Size in `unit` (a step's jump, a ramp's rate, a transient's value at onset).
+    pub size: f64,
+    /// One-sigma of the size given the onset.
+    pub size_sigma: f64,
+    /// Unit of the size.
+    pub unit: String,
+    /// Time constant of a transient (s).
+    pub time_constant_s: Option<f64>,
+    /// `(ŝᵀr̂)²/ŝᵀŝ`: chi-square of one degree of freedom.
+    pub chi2: f64,
+    /// Tail probability corrected for the number of tests (Bonferroni).
+    pub p_value: f64,
+    /// A catalogue candidate that explains it (its columns of the run make it insignificant).
+    pub explained_by: Option<String>,
+}
+
+/// The detectable size of one shape on one channel of one run at onsets through the run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DetectableCurve {
+    /// Run name.
+    pub run: String,
+    /// Channel (`gyro x` ...).
+    pub channel: String,
+    /// Shape label.
+    pub shape: String,
+    /// Time constant of a transient (s).
+    pub time_constant_s: Option<f64>,
+    /// Unit of the levels.
+    pub unit: String,
+    /// Onsets (s).
+    pub onset_s: Vec<f64>,
+    /// Size detected with 90 % probability at the scan's corrected level, at each onset.
+    pub level: Vec<f64>,
+}
+
+/// The scan's result over all runs.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct EventScan {
+    /// Events, run by run, strongest first within a run.
+    pub events: Vec<TimeLocalEvent>,
+    /// Tests in the family (onsets × shapes × axes × runs).
+    pub tests: usize,
+    /// The corrected threshold on `T`.
+    pub threshold_chi2: f64,
+    /// Detectable levels.
+    pub detectable: Vec<DetectableCurve>,
+}
+
+/// One run's data for the scan.
+pub struct ScanRun<'a> {
+    /// Sensitivities (bias states, times, model).
+    pub sens: &'a RunSensitivity,
+    /// Fit data (gap, covariance, calibration responses, candidate columns).
+    pub fit: &'a RunFitData,
+    /// The residual the scan tests: the gap less the winner's fit (fit rows).
+    pub residual: DVector<f64>,
+    /// Winner columns of the run (fit rows), projected out.
+    pub nuisance: DMatrix<f64>,
+    /// Extra covariance (a fitted random walk), if any.
+    pub extra_cov: Option<DMatrix<f64>>,
+    /// Deterministic catalogue candidates: name and their fitted contribution to the run's gap
+    /// (fit rows; one magnitude fitted to every run, as the catalogue's fit does).
+    pub candidates: Vec<(String, DVector<f64>)>,
+}
+
+/// Whitening by the Cholesky factor of one run's covariance.
+struct RunWhitener {
+    l: Mat<f64>,
+}
+
+impl RunWhitener {
+    fn new(cov: &DMatrix<f64>) -> Result<Self, DiagError> {
+        let n = cov.nrows();
+        let m = Mat::<f64>::from_fn(n, n, |i, j| cov[(i, j)]);
+        let llt = m.llt(Side::Lower).map_err(|e| {
+            DiagError::Numerical(format!(
+                "event scan: covariance not positive definite ({e:?})"
+            ))
+        })?;
+        Ok(Self {
+            l: llt.L().to_owned(),
+        })
+    }
+
+    fn whiten_vec(&self, x: &DVector<f64>) -> DVector<f64> {
+        self.whiten(&DMatrix::from_column_slice(x.len(), 1, x.as_slice()))
+            .column(0)
+            .into_owned()
+    }
+
+    fn whiten(&self, x: &DMatrix<f64>) -> DMatrix<f64> {
+        let mut m = Mat::<f64>::from_fn(x.nrows(), x.ncols(), |i, j| x[(i, j)]);
+        solve_lower_triangular_in_place(self.l.as_ref(), m.as_mut(), Par::Seq);
+        DMatrix::from_fn(x.nrows(), x.ncols(), |i, j| m[(i, j)])
+    }
+}
+
+/// An orthonormal basis of nuisance directions (whitened) and the residual projected off it.
+struct Nuisance {
+    q: Vec<DVector<f64>>,
+    r: DVector<f64>,
+}
+
+impl Nuisance {
+    fn new(r: DVector<f64>) -> Self {
+        Self { q: Vec::new(), r }
+    }
+
+    /// Add a direction (Gram-Schmidt twice); the residual loses its component.
+    fn add(&mut self, v: &DVector<f64>) {
+        let mut u = v.clone();
+        for _ in 0..2 {
+            for q in &self.q {
+                let c = q.dot(&u);
+                u.axpy(-c, q, 1.0);
+            }
+        }
+        let n = u.norm();
+        if n > 1e-10 * v.norm().max(f64::MIN_POSITIVE) {
+            u /= n;
+            let c = u.dot(&self.r);
+            self.r.axpy(-c, &u, 1.0);
+            self.q.push(u);
+        }
+    }
+
+    /// `(ŝᵀr̂⊥, |ŝ⊥|²)`.
+    fn stat(&self, s: &[f64]) -> (f64, f64) {
+        let sv = nalgebra::DVectorView::from_slice(s, s.len());
+        let a = sv.dot(&self.r);
+        let mut b = sv.dot(&sv);
+        for q in &self.q {
+            let c = sv.dot(q);
+            b -= c * c;
+        }
+        (a, b.max(0.0))
+    }
+}
+
+/// The step signals of one bias axis at every onset of the grid (fit rows × onsets), the
+/// constant-bias signal `X` on the fit rows, and the onset output indices.
+fn step_signals(
+    s: &RunSensitivity,
+    axis: usize,
+    onsets: &[usize],
+    phis: &[Mat7],
+) -> (DMatrix<f64>, DVector<f64>) {
+    let fit = &s.times.fit_index;
+    let x = &s.bias_states[axis];
+    let rows = 2 * fit.len();
+    let every = phis.len() - 1;
+    let mut out = DMatrix::zeros(rows, onsets.len());
+    for (j, &m) in onsets.iter().enumerate() {
+        let first = fit.partition_point(|&k| k <= m);
+        let Some(&k0) = fit.get(first) else { continue };
+        let mut carry: Vec7 = phis[(k0 - m).min(every)] * x[m];
+        let mut prev = k0;
+        for (i, &k) in fit.iter().enumerate().skip(first) {
+            if k != prev {
+                carry = phis[(k - prev).min(every)] * carry;
+                prev = k;
+            }
+            let d = x[k] - carry;
+            out[(2 * i, j)] = d[R_N];
+            out[(2 * i + 1, j)] = d[R_E];
+        }
+    }
+    let xf = DVector::from_fn(rows, |r, _| {
+        x[fit[r / 2]][if r % 2 == 0 { R_N } else { R_E }]
+    });
+    (out, xf)
+}
+
+/// One axis of a run: whitened step signals at every onset and the whitened constant-bias
+/// signal; the other shapes are generated from them on the fly (see [`AxisSignals::visit`]).
+struct AxisSignals {
+    axis: usize,
+    steps: DMatrix<f64>,
+    constant: DVector<f64>,
+}
+
+/// One signal handed to a visitor: its shape, onset index into the grid (0 for turn-on) and
+/// the whitened vector.
+type Visitor<'a> = dyn FnMut(Shape, usize, &DVector<f64>) + 'a;
+
+impl AxisSignals {
+    /// Every signal of the axis: steps, ramps and transients at each onset (last onset first),
+    /// then the turn-on transients.
+    fn visit(&self, onset_s: &[f64], start_s: f64, cfg: &EventScanConfig, f: &mut Visitor<'_>) {
+        let (rows, k) = (self.steps.nrows(), self.steps.ncols());
+        let dt = cfg.onset_every_s as f64;
+        let zero = DVector::zeros(rows);
+        let col = |m: usize| {
+            if m < k {
+                self.steps.column(m).into_owned()
+            } else {
+                zero.clone()
+            }
+        };
+        let taus = &cfg.time_constants_s;
+        let decay: Vec<(f64, f64)> = taus
+            .iter()
+            .map(|&tau| {
+                let d = (-dt / tau).exp();
+                (d, tau * (1.0 - d) / dt)
+            })
+            .collect();
+        let mut ramp = zero.clone();
+        let mut u: Vec<DVector<f64>> = vec![zero.clone(); taus.len()];
+        let mut next = zero.clone();
+        for m in (0..k).rev() {
+            let here = col(m);
+            f(Shape::Step, m, &here);
+            ramp += (&here + &next) * (0.5 * dt);
+            f(Shape::Ramp, m, &ramp);
+            for (i, &(d, c)) in decay.iter().enumerate() {
+                u[i] = &here - &next + &u[i] * d;
+                let tau_s = taus[i];
+                f(
+                    Shape::Transient {
+                        tau_s,
+                        turn_on: false,
+                    },
+                    m,
+                    &(&u[i] * c),
+                );
+            }
+            next = here;
+        }
+        if k == 0 {
+            return;
+        }
+        // Turn-on: the mean over the alignment absorbed, the rest from the start of navigation.
+        let t_align = onset_s.first().map_or(0.0, |t| t - start_s).max(0.0);
+        let s0 = col(0);
+        for (i, &tau_s) in taus.iter().enumerate() {
+            let b_ns = (-t_align / tau_s).exp();
+            let b_bar = if t_align > 0.0 {
+                tau_s * (1.0 - b_ns) / t_align
+            } else {
+                1.0
+            };
+            let on = &self.constant * b_bar + &u[i] * (decay[i].1 * b_ns) - &s0 * b_bar;
+            f(
+                Shape::Transient {
+                    tau_s,
+                    turn_on: true,
+                },
+                0,
+                &on,
+            );
+        }
+    }
+
+    /// Signals in one run of the visit.
+    fn count(&self, cfg: &EventScanConfig) -> usize {
+        let n = cfg.time_constants_s.len();
+        self.steps.ncols() * (2 + n) + if self.steps.ncols() > 0 { n } else { 0 }
+    }
+}
+
+/// Everything prepared for one run.
+struct Prepared {
+    run: String,
+    whitener: RunWhitener,
+    start_s: f64,
+    onset_s: Vec<f64>,
+    axes: Vec<AxisSignals>,
+    residual: DVector<f64>,
+    nuisance: Vec<DVector<f64>>,
+    candidates: Vec<(String, DVector<f64>)>,
+}
+
+impl Prepared {
+    fn onset_of(&self, shape: Shape, m: usize) -> f64 {
+        match shape {
+            Shape::Transient { turn_on: true, .. } => self.start_s,
+            _ => self.onset_s[m],
+        }
+    }
+
+    fn tests(&self, cfg: &EventScanConfig) -> usize {
+        self.axes.iter().map(|a| a.count(cfg)).sum()
+    }
+}
+
+fn prepare(r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<Prepared, DiagError> {
+    let s = r.sens;
+    let mut cov = &r.fit.cov + &r.fit.params * r.fit.params.transpose();
+    if let Some(e) = &r.extra_cov {
+        cov += e;
+    }
+    let w = RunWhitener::new(&cov)?;
+    let out_dt = match s.times.times_s.as_slice() {
+        [a, b, ..] => b - a,
+        _ => return Err(DiagError::input(&s.run, "fewer than two output times")),
+    };
+    let every = ((cfg.onset_every_s as f64 / out_dt).round() as usize).max(1);
+    let fit_every = match s.times.fit_index.as_slice() {
+        [a, b, ..] => b - a,
+        _ => return Err(DiagError::input(&s.run, "fewer than two fit times")),
+    };
+    let phis: Vec<Mat7> = (0..=fit_every.max(every))
+        .map(|g| s.model.transition(g as f64 * out_dt))
+        .collect();
+    let first = s
+        .times
+        .times_s
+        .partition_point(|&t| t < s.times.nav_start_s - 1e-9);
+    let last_fit = s.times.fit_index.last().copied().unwrap_or(0);
+    let onsets: Vec<usize> = (first..last_fit).step_by(every).collect();
+    let onset_s: Vec<f64> = onsets.iter().map(|&m| s.times.times_s[m]).collect();
+    let axes = (0..6)
+        .map(|axis| {
+            let (raw, x) = step_signals(s, axis, &onsets, &phis);
+            AxisSignals {
+                axis,
+                steps: w.whiten(&raw),
+                constant: w.whiten_vec(&x),
+            }
+        })
+        .collect();
+    let nw = w.whiten(&r.nuisance);
+    let residual = w.whiten_vec(&r.residual);
+    let candidates = r
+        .candidates
+        .iter()
+        .map(|(n, c)| (n.clone(), w.whiten_vec(c)))
+        .collect();
+    Ok(Prepared {
+        whitener: w,
+        run: r.fit.run.clone(),
+        start_s: s.times.start_s,
+        onset_s,
+        axes,
+        residual,
+        nuisance: nw.column_iter().map(|c| c.into_owned()).collect(),
+        candidates,
+    })
+}
+
+/// The strongest signal of a run against the current nuisance.
+struct Best {
+    axis: usize,
+    shape: Shape,
+    m: usize,
+    a: f64,
+    b: f64,
+    t: f64,
+    signal: DVector<f64>,
+}
+
+fn best(p: &Prepared, nuis: &Nuisance, cfg: &EventScanConfig) -> Option<Best> {
+    let mut top: Option<Best> = None;
+    for ax in &p.axes {
+        ax.visit(&p.onset_s, p.start_s, cfg, &mut |shape, m, sig| {
+            let (a, b) = nuis.stat(sig.as_slice());
+            if b <= 0.0 {
+                return;
+            }
+            let t = a * a / b;
+            if top.as_ref().is_none_or(|x| t > x.t) {
+                top = Some(Best {
+                    axis: ax.axis,
+                    shape,
+                    m,
+                    a,
+                    b,
+                    t,
+                    signal: sig.clone(),
+                });
+            }
+        });
+    }
+    top
+}
+
+/// An event's signal on its run's fit rows (unwhitened), scaled by its fitted size: what the
+/// event adds to the gap.
+#[derive(Clone, Debug)]
+pub struct EventSignal {
+    /// Index of the run in the scan's input.
+    pub run: usize,
+    /// Fitted contribution to the gap at the fit rows `[N_0, E_0, ...]` (m).
+    pub contribution: DVector<f64>,
+}
+
+impl RunWhitener {
+    /// `L x`: back from the whitened space.
+    fn colour(&self, x: &DVector<f64>) -> DVector<f64> {
+        let n = x.len();
+        DVector::from_fn(n, |i, _| (0..=i).map(|j| self.l[(i, j)] * x[j]).sum())
+    }
+}
+
+/// `T` of an event's signal (`contribution`, any scale) on run `r` under the run's covariance
+/// plus `extra` (a fitted noise term), the winner's columns and the other events projected out
+/// (`others`): is the event still significant when that noise term is in the twin?
+pub fn chi2_with(
+    r: &ScanRun<'_>,
+    extra: &DMatrix<f64>,
+    contribution: &DVector<f64>,
+    others: &[&DVector<f64>],
+) -> Result<f64, DiagError> {
+    let mut cov = &r.fit.cov + &r.fit.params * r.fit.params.transpose() + extra;
+    if let Some(e) = &r.extra_cov {
+        cov += e;
+    }
+    let w = RunWhitener::new(&cov)?;
+    let mut n = Nuisance::new(w.whiten_vec(&r.residual));
+    for c in w.whiten(&r.nuisance).column_iter() {
+        n.add(&c.into_owned());
+    }
+    for o in others {
+        n.add(&w.whiten_vec(o));
+    }
+    let (a, b) = n.stat(w.whiten_vec(contribution).as_slice());
+    Ok(if b > 0.0 { a * a / b } else { 0.0 })
+}
+
+/// Scan every run (see the module documentation).
+pub fn scan(runs: &[ScanRun<'_>], cfg: &EventScanConfig) -> Result<EventScan, DiagError> {
+    Ok(scan_with_signals(runs, cfg)?.0)
+}
+
+/// [`scan`], with each event's fitted contribution to its run's gap (same order as the events).
+pub fn scan_with_signals(
+    runs: &[ScanRun<'_>],
+    cfg: &EventScanConfig,
+) -> Result<(EventScan, Vec<EventSignal>), DiagError> {
+    if !cfg.enabled || runs.is_empty() {
+        return Ok((EventScan::default(), Vec::new()));
+    }
+    // Runs one at a time (each holds its whitened step signals, about 20 MB for 15 h); the
+    // family's size is known before any is scanned.
+    let tests: usize = runs.iter().map(|r| planned_tests(r, cfg)).sum();
+    let thr = chi2_isf(cfg.alpha / tests.max(1) as f64, 1.0);
+    let mut out = EventScan {
+        events: Vec::new(),
+        tests,
+        threshold_chi2: thr,
+        detectable: Vec::new(),
+    };
+    let mut signals = Vec::new();
+    for (ri, r) in runs.iter().enumerate() {
+        let p = prepare(r, cfg)?;
+        debug_assert_eq!(p.tests(cfg), planned_tests(r, cfg));
+        let mut nuis = Nuisance::new(p.residual.clone());
+        for v in &p.nuisance {
+            nuis.add(v);
+        }
+        out.detectable
+            .extend(detectable_curves(&p, &nuis, thr, cfg));
+        for _ in 0..cfg.max_events_per_run {
+            let Some(b) = best(&p, &nuis, cfg) else { break };
+            if b.t < thr {
+                break;
+            }
+            out.events.push(event(&p, &nuis, &b, tests, thr, cfg));
+            signals.push(EventSignal {
+                run: ri,
+                contribution: p.whitener.colour(&(&b.signal * (b.a / b.b))),
+            });
+            nuis.add(&b.signal);
+        }
+    }
+    Ok((out, signals))
+}
+
+/// The number of signals [`scan`] tests on a run.
+fn planned_tests(r: &ScanRun<'_>, cfg: &EventScanConfig) -> usize {
+    let s = r.sens;
+    let (Some(dt), Some(&last)) = (
+        s.times.times_s.get(1).map(|t| t - s.times.times_s[0]),
+        s.times.fit_index.last(),
+    ) else {
+        return 0;
+    };
+    let every = ((cfg.onset_every_s as f64 / dt).round() as usize).max(1);
+    let first = s
+        .times
+        .times_s
+        .partition_point(|&t| t < s.times.nav_start_s - 1e-9);
+    let k = (first..last).step_by(every).count();
+    let n = cfg.time_constants_s.len();
+    6 * (k * (2 + n) + if k > 0 { n } else { 0 })
+}
+
+/// The event `b` of run `p`.
+fn event(
+    p: &Prepared,
+    nuis: &Nuisance,
+    b: &Best,
+    tests: usize,
+    thr: f64,
+    cfg: &EventScanConfig,
+) -> TimeLocalEvent {
+    // T along the onsets of the event's shape and axis.
+    let mut tm = vec![0.0; p.onset_s.len()];
+    if let Some(ax) = p.axes.iter().find(|a| a.axis == b.axis) {
+        ax.visit(&p.onset_s, p.start_s, cfg, &mut |shape, m, sig| {
+            if shape == b.shape {
+                let (a, bb) = nuis.stat(sig.as_slice());
+                tm[m] = if bb > 0.0 { a * a / bb } else { 0.0 };
+            }
+        });
+    }
+    let onset_s = p.onset_of(b.shape, b.m);
+    let (onset_sigma_s, onset_interval_s) = match b.shape {
+        // The turn-on is known: the first sample.
+        Shape::Transient { turn_on: true, .. } => (0.0, [onset_s, onset_s]),
+        _ => {
+            // Profile-likelihood interval at three sigma: contiguous onsets whose T is within
+            // 9 of the best. The onset of a slow signature (a gyro step) is weakly determined
+            // and its profile is far from quadratic, so the sigma is a third of the larger
+            // side of that interval, not the curvature at the peak.
+            let (mut lo, mut hi) = (b.m, b.m);
+            while lo > 0 && tm[lo - 1] >= b.t - 9.0 {
+                lo -= 1;
+            }
+            while hi + 1 < tm.len() && tm[hi + 1] >= b.t - 9.0 {
+                hi += 1;
+            }
+            let (a, z) = (p.onset_s[lo], p.onset_s[hi]);
+            let side = (onset_s - a).max(z - onset_s);
+            (
+                (side / 3.0).max(cfg.onset_every_s as f64 / 12f64.sqrt()),
+                [a, z],
+            )
+        }
+    };
+    let kind = b.shape.kind(b.axis);
+    let unit = kind.unit();
+    // Explained by a candidate when the gap less that candidate's fit (one magnitude for all
+    // runs) leaves the event insignificant. (Its columns of this run alone, free, would absorb
+    // a step in one run with a temperature-rate signature that no other run supports.)
+    let explained_by = p
+        .candidates
+        .iter()
+        .filter_map(|(name, contribution)| {
+            let mut c = contribution.clone();
+            for q in &nuis.q {
+                let k = q.dot(&c);
+                c.axpy(-k, q, 1.0);
+            }
+            let n2 = Nuisance {
+                q: nuis.q.clone(),
+                r: &nuis.r - c,
+            };
+            let (a2, b2) = n2.stat(b.signal.as_slice());
+            (b2 > 0.0).then(|| (name, a2 * a2 / b2))
+        })
+        .filter(|(_, t2)| *t2 < thr)
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+        .map(|(n, _)| n.clone());
+    TimeLocalEvent {
+        run: p.run.clone(),
+        channel: AXES[b.axis].to_string(),
+        shape: b.shape.label().to_string(),
+        kind: kind.name().to_string(),
+        onset_s,
+        onset_sigma_s,
+        onset_interval_s,
+        size: unit.from_si(b.a / b.b),
+        size_sigma: unit.from_si(1.0 / b.b.sqrt()),
+        unit: unit.label.to_string(),
+        time_constant_s: b.shape.tau_s(),
+        chi2: b.t,
+        p_value: (chi2_sf(b.t, 1.0) * tests as f64).min(1.0),
+        explained_by,
+    }
+}
+
+/// Detectable levels of every shape and axis of a run at onsets `detectable_every_s` apart.
+fn detectable_curves(
+    p: &Prepared,
+    nuis: &Nuisance,
+    thr: f64,
+    cfg: &EventScanConfig,
+) -> Vec<DetectableCurve> {
+    let z = thr.sqrt() + 1.281_551_565_545;
+    let stride =
+        ((cfg.detectable_every_s / cfg.onset_every_s.max(1) as f64).round() as usize).max(1);
+    let mut out: Vec<(Shape, usize, DetectableCurve)> = Vec::new();
+    for ax in &p.axes {
+        ax.visit(&p.onset_s, p.start_s, cfg, &mut |shape, m, sig| {
+            let turn_on = matches!(shape, Shape::Transient { turn_on: true, .. });
+            if !turn_on && m % stride != 0 {
+                return;
+            }
+            let (_, b) = nuis.stat(sig.as_slice());
+            let unit = shape.kind(ax.axis).unit();
+            let level = if b > 0.0 {
+                unit.from_si(z / b.sqrt())
+            } else {
+                f64::INFINITY
+            };
+            let i = match out
+                .iter()
+                .position(|(s, a, _)| *s == shape && *a == ax.axis)
+            {
+                Some(i) => i,
+                None => {
+                    out.push((
+                        shape,
+                        ax.axis,
+                        DetectableCurve {
+                            run: p.run.clone(),
+                            channel: AXES[ax.axis].to_string(),
+                            shape: shape.label().to_string(),
+                            time_constant_s: shape.tau_s(),
+                            unit: unit.label.to_string(),
+                            onset_s: Vec::new(),
+                            level: Vec::new(),
+                        },
+                    ));
+                    out.len() - 1
+                }
+            };
+            out[i].2.onset_s.push(p.onset_of(shape, m));
+            out[i].2.level.push(level);
+        });
+    }
+    // The visit runs backwards in time.
+    out.into_iter()
+        .map(|(_, _, mut c)| {
+            c.onset_s.reverse();
+            c.level.reverse();
+            c
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nuisance_projection_removes_the_direction_from_both_sides() {
+        let r = DVector::from_vec(vec![1.0, 2.0, 3.0, 4.0]);
+        let mut n = Nuisance::new(r);
+        n.add(&DVector::from_vec(vec![1.0, 0.0, 0.0, 0.0]));
+        // A signal along the nuisance has no component left.
+        let (a, b) = n.stat(&[2.0, 0.0, 0.0, 0.0]);
+        assert!(a.abs() < 1e-15 && b.abs() < 1e-15);
+        let (a, b) = n.stat(&[1.0, 1.0, 0.0, 0.0]);
+        assert!((a - 2.0).abs() < 1e-15 && (b - 1.0).abs() < 1e-15);
+    }
+}
