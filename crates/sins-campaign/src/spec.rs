@@ -34,6 +34,10 @@ pub enum Kind {
         null: usize,
         /// Of which with an effect outside the catalogue.
         outside: usize,
+        /// Cases with an effect local in time, drawn after the `cases` others.
+        time_local: usize,
+        /// The twin's noise identified from each case's datasets, not the noise file.
+        identified_noise: bool,
         /// Navigation runs recorded per case.
         runs: Vec<String>,
         /// The "real" IMU's calibration experiment.
@@ -104,6 +108,8 @@ struct BlindFile {
     cases: Option<usize>,
     null: Option<usize>,
     outside: Option<usize>,
+    time_local: Option<usize>,
+    identified_noise: Option<bool>,
     runs: Option<Vec<String>>,
     calibration_experiment: Option<String>,
     navigation_experiment: Option<String>,
@@ -205,6 +211,8 @@ pub fn parse_campaign(
                 cases: b.cases.unwrap_or(30),
                 null: b.null.unwrap_or(5),
                 outside: b.outside.unwrap_or(3),
+                time_local: b.time_local.unwrap_or(0),
+                identified_noise: b.identified_noise.unwrap_or(false),
                 runs: b.runs.unwrap_or_else(|| vec!["nav1".into(), "nav2".into()]),
                 calibration_experiment: rel(
                     &b.calibration_experiment,

@@ -290,6 +290,7 @@ fn a_blind_campaign_grades_as_the_blind_suite_does() {
         keep_datasets: false,
         only: vec![],
         diagnose: sins_diag::input::DiagnoseConfig::default(),
+        identified_noise: false,
     };
     struct Quiet;
     impl sins_report::Progress for Quiet {

@@ -14,12 +14,15 @@
 pub mod blind;
 mod error;
 mod markdown;
+mod markdown_events;
+mod noise;
 mod run;
 mod source;
 mod write;
 
 pub use error::GapError;
 pub use markdown::render_markdown;
+pub use noise::identify_datasets;
 pub use run::{DiagnoseRequest, DiagnosisOutcome, diagnose_datasets};
 pub use source::DatasetSource;
 pub use write::write_diagnosis;

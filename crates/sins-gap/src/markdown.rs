@@ -162,11 +162,17 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
         .map(|(c, w)| {
             format!(
                 "- `{}`: largest standardised increment |z| = {:.1} over {} increments, lag-one \
-                 correlation z = {:.1}, p = {} ({})",
+                 correlation z = {:.1}, stationarity z = {:.1}, cross-run alignment z = {:.1}{}, \
+                 p = {} ({})",
                 c.kind,
                 w.max_abs_z,
                 w.increments,
                 w.lag1_z,
+                w.stationarity_z,
+                w.aligned_z,
+                w.without_events_dchi2.map_or(String::new(), |x| format!(
+                    ", Δχ² without the time-local events {x:.1}"
+                )),
                 g(w.p_value, 2),
                 if w.consistent {
                     "increments look like a walk's"
@@ -218,6 +224,7 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
             walks.join("\n")
         );
     }
+    md.push_str(&crate::markdown_events::render_events(&d.events));
     let _ = writeln!(md, "\n## 3. How far the gap shrinks on withheld data\n");
     if d.validation.is_empty() {
         let _ = writeln!(

@@ -5,18 +5,30 @@
 
 use crate::GapError;
 use crate::run::DiagnosisOutcome;
+use sins_diag::events::TimeLocalEvent;
 use sins_diag::report::RunSeries;
-use sins_plot::{Band, Figure, Line, Panel, series_color};
+use sins_plot::{Band, Figure, Line, Marker, Panel, series_color};
 use sins_report::ReportError;
 use sins_viz::{NavRecording, ScalarSeries};
 use std::path::{Path, PathBuf};
 
-fn plot_run(s: &RunSeries) -> Result<Vec<u8>, sins_plot::PlotError> {
+/// The gap of one run with the twin's envelope, the fitted effect and a marker at the onset of
+/// each time-local event of the run.
+fn plot_run(s: &RunSeries, events: &[TimeLocalEvent]) -> Result<Vec<u8>, sins_plot::PlotError> {
     let t_h: Vec<f64> = s.t_s.iter().map(|t| t / 3600.0).collect();
     let panel = |channel: &str, gap: &[f64], sigma: &[f64], fitted: &[f64]| {
         let lo: Vec<f64> = sigma.iter().map(|v| -3.0 * v).collect();
         let hi: Vec<f64> = sigma.iter().map(|v| 3.0 * v).collect();
-        Panel::new(format!("{}: {channel} position gap (real - twin)", s.run))
+        let markers = events.iter().filter(|e| e.run == s.run).map(|e| {
+            Marker::new(format!("{} {}", e.channel, e.shape), e.onset_s / 3600.0)
+                .color(series_color(3))
+                .dashed()
+        });
+        markers
+            .fold(
+                Panel::new(format!("{}: {channel} position gap (real - twin)", s.run)),
+                |p, m| p.marker(m),
+            )
             .y_label("gap [m]")
             .x_label("time [h]")
             .band(Band::new("twin 3-sigma envelope", t_h.clone(), lo, hi).color(series_color(1)))
@@ -78,7 +90,7 @@ pub fn write_diagnosis(
         let mut files = Vec::new();
         let mut plots = Vec::new();
         for s in &o.diagnosis.series {
-            let png = plot_run(s)
+            let png = plot_run(s, &o.diagnosis.events.events)
                 .map_err(|e| ReportError::Mismatch(format!("plot of run {}: {e}", s.run)))?;
             let f = format!("gap_{}.png", s.run);
             sins_report::write_bytes(&dir.join(&f), &png)?;

@@ -20,6 +20,14 @@ pub struct Args {
     /// Of which with an effect outside the catalogue.
     #[arg(long, default_value_t = 3)]
     pub outside: usize,
+    /// Cases with an effect local in time (a bias step, ramp or transient on one channel),
+    /// drawn after the others (the first cases are those of a suite without them).
+    #[arg(long, default_value_t = 0)]
+    pub time_local: usize,
+    /// The twin's noise identified from each case's own datasets (Allan deviation of their
+    /// stationary segments, as `diagnose` does without --noise-from) instead of the noise file.
+    #[arg(long)]
+    pub identified_noise: bool,
     /// Seed of the case draw (kinds, components, magnitudes, simulation seeds).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -48,6 +56,8 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             cases: args.cases,
             null_cases: args.null,
             out_of_catalogue: args.outside,
+            time_local: args.time_local,
+            time_local_runs: args.runs.clone(),
             ..SuiteShape::default()
         },
         calibration_experiment: exp.join("paper_truth_calibration.toml"),
@@ -56,6 +66,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         keep_datasets: args.keep_datasets,
         only: args.only.clone(),
         diagnose: DiagnoseConfig::default(),
+        identified_noise: args.identified_noise,
     };
     let mut bars = progress::Bars::new(quiet);
     let result = run_suite(&cfg, &mut bars)?;

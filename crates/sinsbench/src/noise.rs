@@ -5,10 +5,8 @@
 use crate::out::{note, say};
 use anyhow::{Context, Result};
 use sins_config::units::{DEG_PER_SQRT_H, UG_PER_SQRT_HZ};
-use sins_diag::source::SampleSource;
-use sins_gap::DatasetSource;
 use sins_nav::{ARCSEC, DEG_PER_H, UG};
-use sins_noiseid::{Estimate, IdentifiedNoise, NoiseIdConfig, RunStationary, SensorNoise};
+use sins_noiseid::{Estimate, IdentifiedNoise, SensorNoise};
 use sins_plot::{AllanPanel, AllanSeries, allan_figure};
 use sins_report::ReportError;
 use sins_sim::NoiseModel;
@@ -39,32 +37,7 @@ pub(crate) fn identify_datasets(
     datasets: &[(String, PathBuf)],
     labels: &[String],
 ) -> Result<IdentifiedNoise> {
-    let mut sources = Vec::new();
-    for (name, path) in datasets {
-        let s = DatasetSource::open(path, name)
-            .with_context(|| format!("--dataset {}", path.display()))?;
-        sources.push((name.clone(), path.clone(), s));
-    }
-    let mut runs: Vec<RunStationary<'_>> = sources
-        .iter_mut()
-        .map(|(name, _, s)| {
-            let labels = s.info().segment_labels.clone();
-            let site = s.info().meta.site;
-            RunStationary {
-                name: name.clone(),
-                source: s as &mut dyn SampleSource,
-                segment_labels: labels,
-                site,
-            }
-        })
-        .collect();
-    let cfg = NoiseIdConfig {
-        labels: labels.to_vec(),
-        ..NoiseIdConfig::default()
-    };
-    let files: Vec<String> = datasets.iter().map(|(_, p)| p.display().to_string()).collect();
-    sins_noiseid::identify_noise(&mut runs, &cfg)
-        .with_context(|| format!("identifying the noise of {}", files.join(", ")))
+    Ok(sins_gap::identify_datasets(datasets, labels)?)
 }
 
 /// A paper-unit figure with its 1-sigma (or upper bound).
@@ -90,18 +63,49 @@ fn rows(gyro: &SensorNoise, accel: &SensorNoise) -> Vec<(String, String)> {
     let rrw_g = DEG_PER_H / 60.0;
     let rrw_a = UG / 60.0;
     vec![
-        ("gyro angle random walk [deg/√h]".into(), fig(&gyro.white_per_sqrt_s, DEG_PER_SQRT_H, 6)),
-        ("gyro bias instability (Allan floor) [deg/h]".into(), fig(&gyro.bias_instability, DEG_PER_H, 6)),
-        ("gyro bias correlation time [s]".into(), fig(&gyro.bias_correlation_s, 1.0, 0)),
         (
-            format!("gyro quantum [arcsec]{}", if gyro.quantum_from_lattice { " (lattice of the increments)" } else { "" }),
+            "gyro angle random walk [deg/√h]".into(),
+            fig(&gyro.white_per_sqrt_s, DEG_PER_SQRT_H, 6),
+        ),
+        (
+            "gyro bias instability (Allan floor) [deg/h]".into(),
+            fig(&gyro.bias_instability, DEG_PER_H, 6),
+        ),
+        (
+            "gyro bias correlation time [s]".into(),
+            fig(&gyro.bias_correlation_s, 1.0, 0),
+        ),
+        (
+            format!(
+                "gyro quantum [arcsec]{}",
+                if gyro.quantum_from_lattice {
+                    " (lattice of the increments)"
+                } else {
+                    ""
+                }
+            ),
             fig(&gyro.quantum, ARCSEC, 4),
         ),
-        ("gyro rate random walk [deg/h/√h] (not in the twin)".into(), fig(&gyro.rate_random_walk_per_sqrt_s, rrw_g, 6)),
-        ("accel velocity random walk [ug/√Hz]".into(), fig(&accel.white_per_sqrt_s, UG_PER_SQRT_HZ, 3)),
-        ("accel bias instability (Allan floor) [ug]".into(), fig(&accel.bias_instability, UG, 3)),
-        ("accel bias correlation time [s]".into(), fig(&accel.bias_correlation_s, 1.0, 0)),
-        ("accel rate random walk [ug/√h] (not in the twin)".into(), fig(&accel.rate_random_walk_per_sqrt_s, rrw_a, 3)),
+        (
+            "gyro rate random walk [deg/h/√h] (not in the twin)".into(),
+            fig(&gyro.rate_random_walk_per_sqrt_s, rrw_g, 6),
+        ),
+        (
+            "accel velocity random walk [ug/√Hz]".into(),
+            fig(&accel.white_per_sqrt_s, UG_PER_SQRT_HZ, 3),
+        ),
+        (
+            "accel bias instability (Allan floor) [ug]".into(),
+            fig(&accel.bias_instability, UG, 3),
+        ),
+        (
+            "accel bias correlation time [s]".into(),
+            fig(&accel.bias_correlation_s, 1.0, 0),
+        ),
+        (
+            "accel rate random walk [ug/√h] (not in the twin)".into(),
+            fig(&accel.rate_random_walk_per_sqrt_s, rrw_a, 3),
+        ),
     ]
 }
 
@@ -195,11 +199,21 @@ fn plot(id: &IdentifiedNoise) -> Result<Vec<u8>, sins_plot::PlotError> {
         .curves
         .iter()
         .map(|c| {
-            let u = if c.channel.starts_with("gyro") { DEG_PER_H } else { UG };
+            let u = if c.channel.starts_with("gyro") {
+                DEG_PER_H
+            } else {
+                UG
+            };
             let s = |v: &[f64]| v.iter().map(|x| x / u).collect::<Vec<f64>>();
             (
                 c.channel.clone(),
-                vec![c.tau_s.clone(), s(&c.adev), s(&c.lo), s(&c.hi), s(&c.fit_triad)],
+                vec![
+                    c.tau_s.clone(),
+                    s(&c.adev),
+                    s(&c.lo),
+                    s(&c.hi),
+                    s(&c.fit_triad),
+                ],
             )
         })
         .collect();
@@ -243,20 +257,25 @@ fn write_outputs(
     seconds: f64,
 ) -> Result<PathBuf> {
     let files = sins_report::write_dir_atomically(parent, name, "noise", |dir| {
-        let mismatch = |what: &str, e: &dyn std::fmt::Display| ReportError::Mismatch(format!("{what}: {e}"));
-        let mut comments = vec![
-            "Identified by `sinsbench noise` from the stationary stretches of:".to_string(),
-        ];
+        let mismatch =
+            |what: &str, e: &dyn std::fmt::Display| ReportError::Mismatch(format!("{what}: {e}"));
+        let mut comments =
+            vec!["Identified by `sinsbench noise` from the stationary stretches of:".to_string()];
         for (n, p) in datasets {
             comments.push(format!("  {n} = {}", p.display()));
         }
-        comments.push(format!("{:.2} h stationary in all; see noise.md.", id.stationary_s() / 3600.0));
+        comments.push(format!(
+            "{:.2} h stationary in all; see noise.md.",
+            id.stationary_s() / 3600.0
+        ));
         for n in &id.notes {
             comments.push(format!("note: {n}"));
         }
         for (what, s) in [("gyro", &id.gyro), ("accel", &id.accel)] {
             if let Some(u) = s.bias_instability.upper_95 {
-                comments.push(format!("{what} bias instability fitted 0: 95 % upper bound {u:e} (SI)"));
+                comments.push(format!(
+                    "{what} bias instability fitted 0: 95 % upper bound {u:e} (SI)"
+                ));
             }
         }
         let description = format!(
@@ -264,7 +283,12 @@ fn write_outputs(
             id.runs.len(),
             id.stationary_s() / 3600.0
         );
-        let toml = sins_config::noise_to_toml(&id.to_noise_model(), Some(&sigma_model(id)), &description, &comments);
+        let toml = sins_config::noise_to_toml(
+            &id.to_noise_model(),
+            Some(&sigma_model(id)),
+            &description,
+            &comments,
+        );
         sins_report::write_bytes(&dir.join("noise.toml"), toml.as_bytes())?;
         let png = plot(id).map_err(|e| mismatch("Allan plot", &e))?;
         sins_report::write_bytes(&dir.join("allan.png"), &png)?;
@@ -272,9 +296,17 @@ fn write_outputs(
             .curves
             .iter()
             .map(|c| {
-                let u = if c.channel.starts_with("gyro") { DEG_PER_H } else { UG };
+                let u = if c.channel.starts_with("gyro") {
+                    DEG_PER_H
+                } else {
+                    UG
+                };
                 let s = |v: &[f64]| v.iter().map(|x| x / u).collect::<Vec<f64>>();
-                (c.channel.clone(), [s(&c.adev), s(&c.lo), s(&c.hi), s(&c.fit_triad)], c.tau_s.clone())
+                (
+                    c.channel.clone(),
+                    [s(&c.adev), s(&c.lo), s(&c.hi), s(&c.fit_triad)],
+                    c.tau_s.clone(),
+                )
             })
             .collect();
         let records: Vec<AllanRecord<'_>> = paper
@@ -290,7 +322,10 @@ fn write_outputs(
             .collect();
         sins_viz::write_allan(&dir.join("noise.rrd"), name, &records)
             .map_err(|e| mismatch("noise.rrd", &e))?;
-        sins_report::write_bytes(&dir.join("noise.md"), markdown(id, datasets, seconds).as_bytes())?;
+        sins_report::write_bytes(
+            &dir.join("noise.md"),
+            markdown(id, datasets, seconds).as_bytes(),
+        )?;
         Ok(vec![
             "noise.toml".into(),
             "allan.png".into(),

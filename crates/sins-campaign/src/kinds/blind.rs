@@ -39,6 +39,8 @@ impl BlindWork {
             cases,
             null,
             outside,
+            time_local,
+            identified_noise,
             runs,
             calibration_experiment,
             navigation_experiment,
@@ -53,6 +55,8 @@ impl BlindWork {
                 cases: *cases,
                 null_cases: *null,
                 out_of_catalogue: *outside,
+                time_local: *time_local,
+                time_local_runs: runs.clone(),
                 ..SuiteShape::default()
             },
             calibration_experiment: calibration_experiment.clone(),
@@ -61,15 +65,22 @@ impl BlindWork {
             keep_datasets: false,
             only: Vec::new(),
             diagnose: DiagnoseConfig::default(),
+            identified_noise: *identified_noise,
         };
         let load = |p: &Path| sins_config::load_experiment(p).map_err(|e| job_error(0, e));
         let fingerprint = format!(
-            "{:?}\n{:?}\n{:?}\n{:?}\n{:?}",
+            "{:?}\n{:?}\n{:?}\n{:?}\n{:?}{}",
             cfg.suite_seed,
             cfg.shape,
             cfg.navigation_runs,
             load(&cfg.calibration_experiment)?,
-            load(&cfg.navigation_experiment)?
+            load(&cfg.navigation_experiment)?,
+            // Only when set: the fingerprints of the campaigns planned before it existed hold.
+            if cfg.identified_noise {
+                "\nidentified noise"
+            } else {
+                ""
+            }
         );
         let answers = draw_cases(&cfg.shape, cfg.suite_seed);
         let noise = twin_noise(&cfg).map_err(|e| job_error(0, e))?;

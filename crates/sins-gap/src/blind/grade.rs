@@ -1,6 +1,7 @@
 //! Grading the blind diagnoses against the opened manifests.
 
 use super::plan::CaseAnswer;
+use super::time_local::{self, TimeLocalGrade};
 use serde::Serialize;
 use sins_diag::report::{Diagnosis, Verdict};
 use std::collections::BTreeMap;
@@ -32,6 +33,10 @@ pub struct CaseGrade {
     pub shrinkage_percent: Option<f64>,
     /// RMS gap shrinkage on the same runs (%), diluted by the noise the twin already predicts.
     pub rms_shrinkage_percent: Option<f64>,
+    /// The time-local grade, for a time-local hidden effect.
+    pub time_local: Option<TimeLocalGrade>,
+    /// The diagnosis reports a time-local event that no catalogue term explains.
+    pub unexplained_event: bool,
 }
 
 /// The suite's grades.
@@ -59,6 +64,11 @@ pub struct Grades {
     pub confusion: BTreeMap<String, BTreeMap<String, usize>>,
     /// Detectable level per kind (paper unit): the median over the cases of that kind.
     pub detectable_by_kind: BTreeMap<String, f64>,
+    /// Time-local cases above their detectable level reported on their channel with the onset
+    /// within 3 sigma / such cases.
+    pub time_local_found: (usize, usize),
+    /// Null cases with a time-local event outside the catalogue / null cases.
+    pub time_local_false_alarms: (usize, usize),
 }
 
 fn outcome_of(v: &Verdict) -> (String, Option<String>) {
@@ -135,6 +145,8 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
                 v.systematic_before > 0.0
             }),
             rms_shrinkage_percent: mean(&|v| v.rms_shrinkage_percent, &|_| true),
+            time_local: time_local::grade_case(a, d),
+            unexplained_event: time_local::has_unexplained_event(d),
         });
     }
     let inside = |g: &&CaseGrade| g.answer.hidden.as_ref().is_some_and(|h| h.in_catalogue);
@@ -149,10 +161,29 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
         .count();
     let nulls: Vec<&CaseGrade> = out.iter().filter(|g| g.answer.hidden.is_none()).collect();
     let alarms = nulls.iter().filter(|g| g.outcome != "none").count();
+    // The cases drawn in the time-local section have their own figures.
     let ooc: Vec<&CaseGrade> = out
         .iter()
-        .filter(|g| g.answer.hidden.as_ref().is_some_and(|h| !h.in_catalogue))
+        .filter(|g| {
+            g.answer
+                .hidden
+                .as_ref()
+                .is_some_and(|h| !h.in_catalogue && !h.drawn_time_local())
+        })
         .collect();
+    let tl: Vec<&TimeLocalGrade> = out
+        .iter()
+        .filter_map(|g| g.time_local.as_ref())
+        .filter(|t| t.above_detectable)
+        .collect();
+    let time_local_found = (
+        tl.iter().filter(|t| t.onset_within_3_sigma).count(),
+        tl.len(),
+    );
+    let time_local_false_alarms = (
+        nulls.iter().filter(|g| g.unexplained_event).count(),
+        nulls.len(),
+    );
     let unexplained = ooc
         .iter()
         .filter(|g| g.outcome == "unexplained" || g.outcome.starts_with("partly"))
@@ -193,6 +224,8 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
             .filter_map(|(k, v)| median(v).map(|m| (k, m)))
             .collect(),
         confusion,
+        time_local_found,
+        time_local_false_alarms,
         cases: out,
     }
 }
@@ -316,6 +349,19 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
             }
         );
     }
+    let rows: Vec<(&CaseAnswer, &TimeLocalGrade)> = g
+        .cases
+        .iter()
+        .filter_map(|c| c.time_local.as_ref().map(|t| (&c.answer, t)))
+        .collect();
+    if !rows.is_empty() || g.time_local_false_alarms.1 > 0 {
+        md.push_str(&time_local::render(
+            &rows,
+            g.time_local_found,
+            g.time_local_false_alarms,
+            frac,
+        ));
+    }
     md
 }
 
@@ -323,6 +369,7 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
 mod tests {
     use super::*;
     use crate::blind::plan::HiddenEffect;
+    use sins_diag::events::TimeLocalEvent;
     use sins_diag::report::{
         CandidateModel, CandidateReport, ChiSquareTest, ComponentEstimate, GapMetrics,
         ValidationReport,
@@ -396,6 +443,7 @@ mod tests {
             validation,
             series: vec![],
             notes: vec![],
+            events: Default::default(),
         }
     }
 
@@ -441,8 +489,82 @@ mod tests {
                 magnitude,
                 unit: "u".into(),
                 times_typical: 5.0,
+                onset_s: None,
+                time_constant_s: None,
+                run: None,
             }),
         }
+    }
+
+    fn event(run: &str, channel: &str, onset_s: f64, sigma_s: f64) -> TimeLocalEvent {
+        TimeLocalEvent {
+            run: run.into(),
+            channel: channel.into(),
+            shape: "step".into(),
+            kind: "gyro_bias_step".into(),
+            onset_s,
+            onset_sigma_s: sigma_s,
+            onset_interval_s: [onset_s - 3.0 * sigma_s, onset_s + 3.0 * sigma_s],
+            size: 0.01,
+            size_sigma: 0.001,
+            unit: "deg/h".into(),
+            time_constant_s: None,
+            chi2: 100.0,
+            p_value: 1e-10,
+            explained_by: None,
+        }
+    }
+
+    #[test]
+    fn time_local_cases_need_their_channel_run_and_onset() {
+        let step = |run: Option<&str>| {
+            let mut a = answer("t1", Some(("gyro_bias_step", false, 0.01)));
+            if let Some(h) = a.hidden.as_mut() {
+                h.component = 1;
+                h.component_label = "y".into();
+                h.onset_s = Some(10_000.0);
+                h.run = run.map(Into::into);
+            }
+            a
+        };
+        let none = Verdict::Unexplained;
+        let with = |events: Vec<TimeLocalEvent>| {
+            let mut d = diagnosis(none.clone(), None);
+            d.events.events = events;
+            d
+        };
+        let cases = vec![
+            // found: right run and channel, 10 000 within 3 × 400 of 10 900
+            (
+                step(Some("nav1")),
+                with(vec![event("nav1", "gyro y", 10_900.0, 400.0)]),
+            ),
+            // onset off by more than 3 sigma
+            (
+                step(Some("nav1")),
+                with(vec![event("nav1", "gyro y", 12_000.0, 300.0)]),
+            ),
+            // wrong run, then wrong channel
+            (
+                step(Some("nav1")),
+                with(vec![event("nav2", "gyro y", 10_000.0, 300.0)]),
+            ),
+            (
+                step(Some("nav1")),
+                with(vec![event("nav1", "gyro x", 10_000.0, 300.0)]),
+            ),
+            // a null case with an event outside the catalogue: a time-local false alarm
+            (
+                answer("n1", None),
+                with(vec![event("nav1", "gyro x", 5_000.0, 300.0)]),
+            ),
+        ];
+        let g = grade(&cases);
+        assert_eq!(g.time_local_found, (1, 4));
+        assert_eq!(g.time_local_false_alarms, (1, 1));
+        // Drawn time-local cases are not counted with the original out-of-catalogue cases.
+        assert_eq!(g.out_of_catalogue_unexplained.1, 0);
+        assert!(render_grades(&g, "x").contains("onset within 3 sigma"));
     }
 
     #[test]

@@ -12,9 +12,11 @@
 //! 4. Only then are the manifests opened, their hashes checked against the index, and the
 //!    diagnoses graded ([`grade::grade`]): top-1 identification, false alarms, out-of-catalogue
 //!    reports, fitted magnitudes against the truth, gap shrinkage on withheld runs, and the
-//!    confusion table.
+//!    confusion table; for the time-local cases (steps, ramps, transients drawn after the
+//!    others, [`time_local`]) whether the event was reported on its channel with its onset.
 
 pub mod grade;
 pub mod plan;
 pub mod seal;
 pub mod suite;
+pub mod time_local;

@@ -39,6 +39,9 @@ pub struct SuiteConfig {
     pub only: Vec<String>,
     /// Diagnosis settings.
     pub diagnose: DiagnoseConfig,
+    /// The twin's noise identified from each case's own datasets (their stationary
+    /// segments, `sins_noiseid`) instead of the navigation experiment's noise file.
+    pub identified_noise: bool,
 }
 
 impl SuiteConfig {
@@ -93,7 +96,10 @@ fn generate(
         .cloned()
         .ok_or_else(|| GapError::Invalid("the calibration experiment has no run".into()))?;
     cal.seed = answer.seed;
-    cal.effects.extend(effect.clone());
+    let acts_on = |run: &str| answer.hidden.as_ref().is_none_or(|h| h.acts_on(run));
+    if acts_on(CALIBRATION_RUN) {
+        cal.effects.extend(effect.clone());
+    }
     std::fs::create_dir_all(dir).map_err(|e| GapError::io(dir, e))?;
     // The calibration run, simulated once: written as a file (the diagnosis replays it and
     // measures from it how the calibration absorbed the effect) and fed to the 42-state filter.
@@ -126,7 +132,9 @@ fn generate(
         }
         let mut sc = sc.clone();
         sc.seed = answer.seed.wrapping_add(100 + i as u64);
-        sc.effects.extend(effect.clone());
+        if acts_on(&sc.name) {
+            sc.effects.extend(effect.clone());
+        }
         let file = dir.join(format!("{}.parquet", sc.name));
         simulate_to_dataset(&nav_exp.name, &sc, &file, progress)?;
         datasets.push((sc.name.clone(), file));

@@ -1,0 +1,178 @@
+//! Grading the time-local cases: was the hidden step, ramp or transient reported as an event
+//! on its channel (and run), with the onset within three sigma of the truth; and the null
+//! cases' time-local false alarms.
+
+use super::plan::{CaseAnswer, HiddenEffect};
+use serde::Serialize;
+use sins_diag::events::{DetectableCurve, TimeLocalEvent};
+use sins_diag::report::Diagnosis;
+use sins_imu::EffectKind;
+use sins_imu::effects::Sensor;
+use std::fmt::Write as _;
+
+/// The grade of one time-local case.
+#[derive(Clone, Debug, Serialize)]
+pub struct TimeLocalGrade {
+    /// The channel (`gyro x` ...).
+    pub channel: String,
+    /// The hidden shape (`step`, `ramp`, `transient`, `turn-on transient`).
+    pub shape: String,
+    /// The event reported on that channel (and run), the strongest if several.
+    pub event: Option<TimeLocalEvent>,
+    /// The event's onset is within three of its sigmas of the truth.
+    pub onset_within_3_sigma: bool,
+    /// The event has the hidden shape.
+    pub shape_right: bool,
+    /// The scan's detectable size for this shape, channel, run and onset (paper unit).
+    pub detectable: Option<f64>,
+    /// The hidden size is above it (true when unknown).
+    pub above_detectable: bool,
+}
+
+fn channel(h: &HiddenEffect, kind: EffectKind) -> String {
+    let sensor = match kind.sensor() {
+        Sensor::Gyro => "gyro",
+        Sensor::Accel => "accel",
+    };
+    format!("{sensor} {}", h.component_label)
+}
+
+fn shape(h: &HiddenEffect, kind: EffectKind) -> &'static str {
+    match kind {
+        EffectKind::GyroBiasRamp | EffectKind::AccelBiasRamp => "ramp",
+        EffectKind::GyroBiasTransient | EffectKind::AccelBiasTransient => {
+            if h.onset_time_s() == 0.0 {
+                "turn-on transient"
+            } else {
+                "transient"
+            }
+        }
+        _ => "step",
+    }
+}
+
+/// The detectable level of the hidden effect: the curve of its run, channel and shape (the
+/// transient's nearest time constant), at the onset nearest its own; the smallest over the runs
+/// it acts on.
+fn detectable(h: &HiddenEffect, ch: &str, sh: &str, curves: &[DetectableCurve]) -> Option<f64> {
+    let tau = h.time_constant_s.unwrap_or(1.0);
+    let matching: Vec<&DetectableCurve> = curves
+        .iter()
+        .filter(|c| c.channel == ch && c.shape == sh && h.acts_on(&c.run))
+        .collect();
+    let best_tau = matching
+        .iter()
+        .filter_map(|c| c.time_constant_s)
+        .min_by(|a, b| (a / tau).ln().abs().total_cmp(&(b / tau).ln().abs()));
+    matching
+        .iter()
+        .filter(|c| c.time_constant_s == best_tau)
+        .filter_map(|c| {
+            let onset = h.onset_time_s();
+            c.onset_s
+                .iter()
+                .zip(&c.level)
+                .min_by(|a, b| (a.0 - onset).abs().total_cmp(&(b.0 - onset).abs()))
+                .map(|(_, l)| *l)
+        })
+        .min_by(f64::total_cmp)
+}
+
+/// Grade a case whose hidden effect is time-local (`None` otherwise).
+pub fn grade_case(a: &CaseAnswer, d: &Diagnosis) -> Option<TimeLocalGrade> {
+    let h = a.hidden.as_ref().filter(|h| h.is_time_local())?;
+    let kind = EffectKind::from_name(&h.kind)?;
+    let ch = channel(h, kind);
+    let sh = shape(h, kind);
+    let event = d
+        .events
+        .events
+        .iter()
+        .filter(|e| e.channel == ch && h.acts_on(&e.run))
+        .max_by(|x, y| x.chi2.total_cmp(&y.chi2))
+        .cloned();
+    let truth = h.onset_time_s();
+    let onset_within_3_sigma = event
+        .as_ref()
+        .is_some_and(|e| (e.onset_s - truth).abs() <= 3.0 * e.onset_sigma_s + 1e-9);
+    let detectable = detectable(h, &ch, sh, &d.events.detectable);
+    Some(TimeLocalGrade {
+        shape_right: event.as_ref().is_some_and(|e| e.shape == sh),
+        above_detectable: detectable.is_none_or(|l| h.magnitude.abs() > l),
+        channel: ch,
+        shape: sh.to_string(),
+        event,
+        onset_within_3_sigma,
+        detectable,
+    })
+}
+
+/// A diagnosis reports an event that no catalogue term explains.
+pub fn has_unexplained_event(d: &Diagnosis) -> bool {
+    d.events.events.iter().any(|e| e.explained_by.is_none())
+}
+
+/// The time-local section of the grades' Markdown.
+pub fn render(
+    rows: &[(&CaseAnswer, &TimeLocalGrade)],
+    found: (usize, usize),
+    false_alarms: (usize, usize),
+    frac: fn((usize, usize)) -> String,
+) -> String {
+    let mut md = String::from("\n## Time-local effects (steps, ramps, transients)\n\n");
+    let _ = writeln!(md, "| figure | result | target |\n|---|---|---|");
+    let _ = writeln!(
+        md,
+        "| reported on their channel with the onset within 3 sigma, cases above the detectable level | {} | ≥ 90 % |",
+        frac(found)
+    );
+    let _ = writeln!(
+        md,
+        "| null cases with a time-local event outside the catalogue | {} | ≤ 1 in 10 |\n",
+        frac(false_alarms)
+    );
+    let _ = writeln!(
+        md,
+        "| case | hidden | run | onset (s) | size (× typical) | detectable | event | onset ± 1σ (s) | size ± 1σ | within 3σ |\n|---|---|---|---|---|---|---|---|---|---|"
+    );
+    for (a, g) in rows {
+        let Some(h) = &a.hidden else { continue };
+        let tau = h
+            .time_constant_s
+            .map_or(String::new(), |t| format!(", τ {t:.0} s"));
+        let ev = g.event.as_ref();
+        let _ = writeln!(
+            md,
+            "| {} | {} {} {}{tau} | {} | {:.0} | {:.3e} {} ({:.1}×) | {} | {} | {} | {} | {} |",
+            a.case,
+            g.shape,
+            g.channel,
+            h.kind,
+            h.run.as_deref().unwrap_or("all"),
+            h.onset_time_s(),
+            h.magnitude,
+            h.unit,
+            h.times_typical,
+            g.detectable.map_or("-".into(), |v| format!("{v:.2e}")),
+            ev.map_or("none".into(), |e| format!(
+                "{} {} in {}{}",
+                e.shape,
+                e.channel,
+                e.run,
+                e.explained_by
+                    .as_ref()
+                    .map_or(String::new(), |x| format!(" (explained by {x})"))
+            )),
+            ev.map_or("-".into(), |e| format!(
+                "{:.0} ± {:.0}",
+                e.onset_s, e.onset_sigma_s
+            )),
+            ev.map_or("-".into(), |e| format!(
+                "{:.3e} ± {:.1e}",
+                e.size, e.size_sigma
+            )),
+            if g.onset_within_3_sigma { "yes" } else { "no" },
+        );
+    }
+    md
+}

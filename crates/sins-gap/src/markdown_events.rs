@@ -1,0 +1,84 @@
+//! The time-local section of the diagnosis report: the events the scan found and the
+//! detectable size of a step through each run.
+
+use sins_diag::events::EventScan;
+use std::fmt::Write as _;
+
+/// The events table and a detectable-step table (levels at the onsets listed, per channel).
+pub fn render_events(scan: &EventScan) -> String {
+    let mut md = String::from("\n### Effects local in time\n\n");
+    if scan.tests == 0 {
+        md.push_str("The scan for steps, ramps and transients was off.\n");
+        return md;
+    }
+    let _ = writeln!(
+        md,
+        "A likelihood-ratio scan over onset time for bias steps, ramps and exponential \
+         transients on each sensor axis of each run, against the winner's fit (or the twin): \
+         {} tests, Bonferroni threshold χ² = {:.1}. An event no catalogue term explains is an \
+         effect outside the catalogue. Onset ± 1σ from the profile likelihood (3σ interval: the \
+         onsets within Δχ² = 9 of the best).\n",
+        scan.tests, scan.threshold_chi2
+    );
+    if scan.events.is_empty() {
+        md.push_str("No event.\n");
+    } else {
+        let _ = writeln!(
+            md,
+            "| run | channel | shape | onset ± 1σ (s) | size ± 1σ | τ (s) | χ² | p | explained by |\n|---|---|---|---|---|---|---|---|---|"
+        );
+        for e in &scan.events {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {:.0} ± {:.0} | {:.3e} ± {:.1e} {} | {} | {:.1} | {:.1e} | {} |",
+                e.run,
+                e.channel,
+                e.shape,
+                e.onset_s,
+                e.onset_sigma_s,
+                e.size,
+                e.size_sigma,
+                e.unit,
+                e.time_constant_s.map_or("-".into(), |t| format!("{t:.0}")),
+                e.chi2,
+                e.p_value,
+                e.explained_by.as_deref().unwrap_or("outside the catalogue"),
+            );
+        }
+    }
+    let mut runs: Vec<&str> = scan.detectable.iter().map(|c| c.run.as_str()).collect();
+    runs.dedup();
+    for run in runs {
+        let steps: Vec<_> = scan
+            .detectable
+            .iter()
+            .filter(|c| c.run == run && c.shape == "step")
+            .collect();
+        let Some(first) = steps.first() else { continue };
+        let _ = writeln!(
+            md,
+            "\nDetectable step in {run} (90 % power at the scan's level) by onset time (h):\n\n| channel | {} |\n|---|{}",
+            first
+                .onset_s
+                .iter()
+                .map(|t| format!("{:.1}", t / 3600.0))
+                .collect::<Vec<_>>()
+                .join(" | "),
+            "---|".repeat(first.onset_s.len())
+        );
+        for c in steps {
+            let _ = writeln!(
+                md,
+                "| {} ({}) | {} |",
+                c.channel,
+                c.unit,
+                c.level
+                    .iter()
+                    .map(|v| format!("{v:.2e}"))
+                    .collect::<Vec<_>>()
+                    .join(" | ")
+            );
+        }
+    }
+    md
+}
