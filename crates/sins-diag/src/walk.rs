@@ -432,4 +432,37 @@ mod tests {
         let naive = whiteness(&w, &DMatrix::identity(n, n), &[n]).expect("shape");
         assert!(naive.lag1_z > 4.0, "{naive:?}");
     }
+
+    #[test]
+    fn increments_bunched_at_turn_on_in_every_run_are_neither_stationary_nor_independent() {
+        // Two runs of 60 increments (after each aligned constant), C = I.
+        let (b, n) = (61, 122);
+        let c = DMatrix::<f64>::identity(n, n);
+        let noise = normals(n, 5);
+        // A walk: white unit increments; the statistics are N(0, 1).
+        let walk = DVector::from_vec(noise.clone());
+        let s = whiteness(&walk, &c, &[b, b]).expect("shape");
+        assert!(s.stationarity_z.abs() < 3.0 && s.aligned_z < 4.0, "{s:?}");
+        // Exact stationarity variance for C = I: 2 (1/30 + 1/30) per run, two runs.
+        let d: f64 = [0, b]
+            .iter()
+            .map(|&o| {
+                let m = |r: std::ops::Range<usize>| {
+                    r.clone().map(|j| walk[o + j] * walk[o + j]).sum::<f64>() / r.len() as f64
+                };
+                m(1..31) - m(31..61)
+            })
+            .sum();
+        assert!((s.stationarity_z - d / (2.0 * 2.0 * (2.0 / 30.0f64)).sqrt()).abs() < 1e-12);
+        // A turn-on transient: the first increments of each run large and of one sign.
+        let mut tr = DVector::from_vec(noise.iter().map(|x| 0.5 * x).collect());
+        for o in [0, b] {
+            for j in 1..9 {
+                tr[o + j] += 4.0 / (j as f64).sqrt();
+            }
+        }
+        let s = whiteness(&tr, &c, &[b, b]).expect("shape");
+        assert!(s.stationarity_z > 3.0, "{s:?}");
+        assert!(s.aligned_z > 4.0 && s.p_value < 1e-3, "{s:?}");
+    }
 }

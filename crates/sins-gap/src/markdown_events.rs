@@ -66,7 +66,7 @@ pub fn render_events(scan: &EventScan) -> String {
                 .join(" | "),
             "---|".repeat(first.onset_s.len())
         );
-        for c in steps {
+        for c in &steps {
             let _ = writeln!(
                 md,
                 "| {} ({}) | {} |",
@@ -78,6 +78,38 @@ pub fn render_events(scan: &EventScan) -> String {
                     .collect::<Vec<_>>()
                     .join(" | ")
             );
+        }
+        let turn_on: Vec<_> = scan
+            .detectable
+            .iter()
+            .filter(|c| c.run == run && c.shape == "turn-on transient")
+            .collect();
+        let mut taus: Vec<f64> = turn_on.iter().filter_map(|c| c.time_constant_s).collect();
+        taus.dedup();
+        if taus.is_empty() {
+            continue;
+        }
+        let _ = writeln!(
+            md,
+            "\nDetectable turn-on transient in {run} (its value at turn-on) by time constant (s):\n\n| channel | {} |\n|---|{}",
+            taus.iter()
+                .map(|t| format!("{t:.0}"))
+                .collect::<Vec<_>>()
+                .join(" | "),
+            "---|".repeat(taus.len())
+        );
+        for s in &steps {
+            let cells: Vec<String> = taus
+                .iter()
+                .map(|t| {
+                    turn_on
+                        .iter()
+                        .find(|c| c.channel == s.channel && c.time_constant_s == Some(*t))
+                        .and_then(|c| c.level.first())
+                        .map_or("-".into(), |v| format!("{v:.2e}"))
+                })
+                .collect();
+            let _ = writeln!(md, "| {} ({}) | {} |", s.channel, s.unit, cells.join(" | "));
         }
     }
     md

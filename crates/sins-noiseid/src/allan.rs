@@ -132,7 +132,10 @@ impl PooledTau {
 
     /// Degrees of freedom of the pooled estimate for a noise type (sum over stretches).
     pub fn edf(&self, noise: NoiseType) -> f64 {
-        self.stretches.iter().map(|&(_, n, m)| edf(noise, n, m)).sum()
+        self.stretches
+            .iter()
+            .map(|&(_, n, m)| edf(noise, n, m))
+            .sum()
     }
 }
 

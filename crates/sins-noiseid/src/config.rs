@@ -49,10 +49,16 @@ impl NoiseIdConfig {
             return bad("no stationary segment label given".into());
         }
         if !(self.max_tau_fraction > 0.0 && self.max_tau_fraction <= 0.5) {
-            return bad(format!("max_tau_fraction must be in (0, 0.5], got {}", self.max_tau_fraction));
+            return bad(format!(
+                "max_tau_fraction must be in (0, 0.5], got {}",
+                self.max_tau_fraction
+            ));
         }
         if !(self.min_stretch_s.is_finite() && self.min_stretch_s >= 0.0) {
-            return bad(format!("min_stretch_s must be >= 0, got {}", self.min_stretch_s));
+            return bad(format!(
+                "min_stretch_s must be >= 0, got {}",
+                self.min_stretch_s
+            ));
         }
         let [lo, hi] = self.correlation_grid_s;
         if !(lo > 0.0 && hi > lo && hi.is_finite()) || self.correlation_grid_points < 3 {

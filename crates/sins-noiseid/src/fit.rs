@@ -57,7 +57,11 @@ impl<'a> FitData<'a> {
         let filters = points.iter().map(|p| grid.filter(p.tau_s)).collect();
         let nb = points.iter().map(|p| p.block + 1).max().unwrap_or(0);
         let blocks = (0..nb)
-            .map(|b| (0..points.len()).filter(|&i| points[i].block == b).collect())
+            .map(|b| {
+                (0..points.len())
+                    .filter(|&i| points[i].block == b)
+                    .collect()
+            })
             .collect();
         Self {
             points,
@@ -66,7 +70,6 @@ impl<'a> FitData<'a> {
             blocks,
         }
     }
-
 }
 
 /// A fit at one correlation time.
@@ -161,7 +164,9 @@ fn whiten(
             .iter()
             .map(|&i| {
                 let p = &pts[i];
-                let m = (model[i] - p.offset).max(1e-9 * p.avar).max(f64::MIN_POSITIVE);
+                let m = (model[i] - p.offset)
+                    .max(1e-9 * p.avar)
+                    .max(f64::MIN_POSITIVE);
                 let nu = p.pooled.edf(dominant(&basis[i], theta).noise_type());
                 (2.0 / nu).sqrt() * m
             })
@@ -220,8 +225,13 @@ pub(crate) fn fit_fixed(data: &FitData<'_>, enabled: [bool; 4], correlation_s: f
                 .filter(|(k, _)| mask & (1 << k) != 0)
                 .map(|(_, &t)| t)
                 .collect();
-            let Some(s) = solve(&w.rows, &w.y, &subset) else { continue };
-            if subset.iter().any(|&t| s.theta[t] <= 0.0 || s.theta[t].is_nan()) {
+            let Some(s) = solve(&w.rows, &w.y, &subset) else {
+                continue;
+            };
+            if subset
+                .iter()
+                .any(|&t| s.theta[t] <= 0.0 || s.theta[t].is_nan())
+            {
                 continue;
             }
             if best.as_ref().is_none_or(|(b, _)| s.sse < b.sse) {

@@ -106,7 +106,11 @@ pub fn identify_noise(
     // rate random walk (σ² and T then trade along K² = 2σ²/T): the profile stops there.
     let tau_top = taus.last().map_or(0.0, |p| p[0].tau_s);
     let t_cap = CORRELATION_CAP * tau_top;
-    let mut grid: Vec<f64> = cfg.correlation_grid().into_iter().filter(|&t| t < t_cap).collect();
+    let mut grid: Vec<f64> = cfg
+        .correlation_grid()
+        .into_iter()
+        .filter(|&t| t < t_cap)
+        .collect();
     if cfg.correlation_grid_s[1] >= t_cap {
         grid.push(t_cap);
     }
@@ -124,10 +128,13 @@ pub fn identify_noise(
     let gyro = ctx.fit_gyro(lattice);
     let accel = ctx.fit_triad(3, None, [false, true, true, false]);
     let mut notes = Vec::new();
-    let mut gyro_axes: Vec<SensorNoise> =
-        (0..3).map(|a| gyro.axes[a].summary(lattice.map(|q| q[a]))).collect();
+    let mut gyro_axes: Vec<SensorNoise> = (0..3)
+        .map(|a| gyro.axes[a].summary(lattice.map(|q| q[a])))
+        .collect();
     let mut accel_axes: Vec<SensorNoise> = (0..3).map(|a| accel.axes[a].summary(None)).collect();
-    let mut gyro_sum = gyro.triad.summary(lattice.map(|q| (q[0] + q[1] + q[2]) / 3.0));
+    let mut gyro_sum = gyro
+        .triad
+        .summary(lattice.map(|q| (q[0] + q[1] + q[2]) / 3.0));
     let mut accel_sum = accel.triad.summary(None);
     if ctx.rrw {
         // The rate random walk from an extended fit (the twin's terms plus K): at the lengths of
@@ -137,10 +144,14 @@ pub fn identify_noise(
         let with = |on: [bool; 4]| [on[0], true, true, true];
         let g = ctx.fit_triad(0, lattice.map(|_| &gyro_offsets), with(gyro.triad.enabled));
         let a = ctx.fit_triad(3, None, with(accel.triad.enabled));
-        for (fits, sum, axes) in [(&g, &mut gyro_sum, &mut gyro_axes), (&a, &mut accel_sum, &mut accel_axes)] {
+        for (fits, sum, axes) in [
+            (&g, &mut gyro_sum, &mut gyro_axes),
+            (&a, &mut accel_sum, &mut accel_axes),
+        ] {
             sum.rate_random_walk_per_sqrt_s = fits.triad.summary(None).rate_random_walk_per_sqrt_s;
             for (k, ax) in axes.iter_mut().enumerate() {
-                ax.rate_random_walk_per_sqrt_s = fits.axes[k].summary(None).rate_random_walk_per_sqrt_s;
+                ax.rate_random_walk_per_sqrt_s =
+                    fits.axes[k].summary(None).rate_random_walk_per_sqrt_s;
             }
         }
     }
@@ -152,7 +163,9 @@ pub fn identify_noise(
             ));
         }
         if s.bias_sigma.value == 0.0 {
-            notes.push(format!("{name} Gauss-Markov bias not above zero; 95 % upper bound of sigma given"));
+            notes.push(format!(
+                "{name} Gauss-Markov bias not above zero; 95 % upper bound of sigma given"
+            ));
         }
     }
     let mut curves = Vec::new();
@@ -316,7 +329,9 @@ impl FitContext<'_> {
                     let pt = &p[a];
                     let (mut num, mut den) = (0.0, 0.0);
                     for &(idx, n, m) in &pt.stretches {
-                        let Some(s) = self.stretches.get(idx) else { continue };
+                        let Some(s) = self.stretches.get(idx) else {
+                            continue;
+                        };
                         let t_s = (s.samples as f64 * self.h_s).max(pt.tau_s);
                         let du = (bias_sigma.powi(2)
                             + rrw.powi(2) * t_s / 3.0
@@ -332,7 +347,14 @@ impl FitContext<'_> {
         })
     }
 
-    fn curve(&self, channel: usize, axis: &Fitted, triad: &Fitted, a: usize, coverage: f64) -> AllanCurve {
+    fn curve(
+        &self,
+        channel: usize,
+        axis: &Fitted,
+        triad: &Fitted,
+        a: usize,
+        coverage: f64,
+    ) -> AllanCurve {
         let n = self.taus.len();
         let pts = self.points(channel, &axis.offsets, 0);
         let mut c = AllanCurve {
@@ -355,9 +377,25 @@ impl FitContext<'_> {
             c.lo.push(lo.sqrt());
             c.hi.push(hi.sqrt());
             c.edf.push(nu);
-            c.fit_axis.push(axis.fit.fit.model.get(i).copied().unwrap_or(f64::NAN).sqrt());
-            c.fit_triad
-                .push(triad.fit.fit.model.get(a * n + i).copied().unwrap_or(f64::NAN).sqrt());
+            c.fit_axis.push(
+                axis.fit
+                    .fit
+                    .model
+                    .get(i)
+                    .copied()
+                    .unwrap_or(f64::NAN)
+                    .sqrt(),
+            );
+            c.fit_triad.push(
+                triad
+                    .fit
+                    .fit
+                    .model
+                    .get(a * n + i)
+                    .copied()
+                    .unwrap_or(f64::NAN)
+                    .sqrt(),
+            );
         }
         c
     }
@@ -418,7 +456,11 @@ impl Fitted {
             bias_sigma,
             bias_instability: instability_of(bias_sigma),
             bias_correlation_s: corr,
-            rate_random_walk_per_sqrt_s: if self.enabled[3] { root(3, 1.0) } else { Estimate::exact(0.0) },
+            rate_random_walk_per_sqrt_s: if self.enabled[3] {
+                root(3, 1.0)
+            } else {
+                Estimate::exact(0.0)
+            },
             chi2: f.chi2,
             points: f.model.len(),
             parameters: active + usize::from(bias_sigma.value > 0.0),

@@ -118,7 +118,11 @@ impl LatticeDetector {
             return;
         }
         self.max_abs = self.max_abs.max(v);
-        self.gcd = if self.gcd == 0.0 { v } else { fgcd(self.gcd, v) };
+        self.gcd = if self.gcd == 0.0 {
+            v
+        } else {
+            fgcd(self.gcd, v)
+        };
         if self.gcd * MAX_QUANTA < self.max_abs {
             self.broken = true;
         }

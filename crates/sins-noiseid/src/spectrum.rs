@@ -92,7 +92,9 @@ impl Grid {
                 c[(j, i)] = v;
             }
         }
-        let d: Vec<f64> = (0..n).map(|i| c[(i, i)].max(f64::MIN_POSITIVE).sqrt()).collect();
+        let d: Vec<f64> = (0..n)
+            .map(|i| c[(i, i)].max(f64::MIN_POSITIVE).sqrt())
+            .collect();
         for i in 0..n {
             for j in 0..n {
                 c[(i, j)] /= d[i] * d[j];
@@ -118,7 +120,10 @@ mod tests {
             let gf = g.filter(tau);
             let avar: f64 = (0..s.len()).map(|k| s[k] * gf[k] * g.w[k]).sum();
             let want = TERMS[j].basis(tau, 500.0);
-            assert!((avar / want - 1.0).abs() < 0.05, "term {j}: {avar} vs {want}");
+            assert!(
+                (avar / want - 1.0).abs() < 0.05,
+                "term {j}: {avar} vs {want}"
+            );
         }
     }
 }

@@ -31,7 +31,10 @@ fn white_rate_noise_has_allan_variance_sigma2_over_tau() {
         let expected = density * density / tau;
         let nu = edf(NoiseType::WhiteFrequency, x.len() as u64, m as u64);
         let z = (avar / expected - 1.0) / (2.0 / nu).sqrt();
-        assert!(z.abs() < 4.0, "m {m}: avar {avar:e} vs {expected:e}, z {z:.2}");
+        assert!(
+            z.abs() < 4.0,
+            "m {m}: avar {avar:e} vs {expected:e}, z {z:.2}"
+        );
     }
 }
 
@@ -60,7 +63,10 @@ fn rate_random_walk_has_allan_variance_k2_tau_over_3() {
     let expected = k * k * tau / 3.0 + k * k * h / (6.0 * m as f64);
     let nu = pooled.edf(NoiseType::RandomWalkFrequency);
     let z = (avar / expected - 1.0) / (2.0 / nu).sqrt();
-    assert!(z.abs() < 4.0, "avar {avar:e} vs {expected:e}, edf {nu:.0}, z {z:.2}");
+    assert!(
+        z.abs() < 4.0,
+        "avar {avar:e} vs {expected:e}, edf {nu:.0}, z {z:.2}"
+    );
 }
 
 #[test]

@@ -17,7 +17,10 @@ use sins_sim::{
 fn within(name: &str, est: &Estimate, truth: f64, k: f64) {
     if est.value == 0.0 {
         let ub = est.upper_95.unwrap_or(0.0);
-        assert!(truth <= ub, "{name}: fitted 0, upper bound {ub:e} below the truth {truth:e}");
+        assert!(
+            truth <= ub,
+            "{name}: fitted 0, upper bound {ub:e} below the truth {truth:e}"
+        );
         return;
     }
     let z = (est.value - truth) / est.sigma;
@@ -101,10 +104,24 @@ fn white_plus_gauss_markov_is_identified_within_its_sigma() {
         eprintln!("{name}: {s:#?}");
         within(&format!("{name} white"), &s.white_per_sqrt_s, white, 3.0);
         within(&format!("{name} GM sigma"), &s.bias_sigma, sigma, 3.0);
-        within(&format!("{name} GM correlation"), &s.bias_correlation_s, tc, 3.0);
+        within(
+            &format!("{name} GM correlation"),
+            &s.bias_correlation_s,
+            tc,
+            3.0,
+        );
         // Not vacuous: the correlation time is identified to better than 30 %.
-        assert!(s.bias_correlation_s.sigma < 0.3 * tc, "{name}: {:?}", s.bias_correlation_s);
-        within(&format!("{name} rate random walk"), &s.rate_random_walk_per_sqrt_s, 0.0, 3.0);
+        assert!(
+            s.bias_correlation_s.sigma < 0.3 * tc,
+            "{name}: {:?}",
+            s.bias_correlation_s
+        );
+        within(
+            &format!("{name} rate random walk"),
+            &s.rate_random_walk_per_sqrt_s,
+            0.0,
+            3.0,
+        );
     }
     // Continuous data: no lattice, and the free quantization term is compatible with zero.
     assert!(!id.gyro.quantum_from_lattice);
@@ -185,8 +202,18 @@ fn paper_noise_from_a_simulated_stationary_run() {
     // The quantum is read off the increments exactly.
     assert!(id.gyro.quantum_from_lattice);
     assert!((id.gyro.quantum.value / truth.gyro_quantum_rad - 1.0).abs() < 1e-9);
-    within("ARW", &id.gyro.white_per_sqrt_s, truth.gyro_arw_rad_per_sqrt_s, 3.0);
-    within("VRW", &id.accel.white_per_sqrt_s, truth.accel_vrw_mps_per_sqrt_s, 3.0);
+    within(
+        "ARW",
+        &id.gyro.white_per_sqrt_s,
+        truth.gyro_arw_rad_per_sqrt_s,
+        3.0,
+    );
+    within(
+        "VRW",
+        &id.accel.white_per_sqrt_s,
+        truth.accel_vrw_mps_per_sqrt_s,
+        3.0,
+    );
     // Not vacuous: both white terms to better than 20 %.
     assert!(id.gyro.white_per_sqrt_s.sigma < 0.2 * truth.gyro_arw_rad_per_sqrt_s);
     assert!(id.accel.white_per_sqrt_s.sigma < 0.2 * truth.accel_vrw_mps_per_sqrt_s);
@@ -194,20 +221,40 @@ fn paper_noise_from_a_simulated_stationary_run() {
     // they identify is the rising slope K² = 2σ²/T (the rate random walk the bias looks like at
     // τ < T), and the truth's slope must lie within 3 sigma of it.
     for (name, s, sigma, t) in [
-        ("gyro", &id.gyro, truth.gyro_bias_instability_radps, truth.gyro_bias_correlation_s),
-        ("accel", &id.accel, truth.accel_bias_instability_mps2, truth.accel_bias_correlation_s),
+        (
+            "gyro",
+            &id.gyro,
+            truth.gyro_bias_instability_radps,
+            truth.gyro_bias_correlation_s,
+        ),
+        (
+            "accel",
+            &id.accel,
+            truth.accel_bias_instability_mps2,
+            truth.accel_bias_correlation_s,
+        ),
     ] {
         let est_t = s.bias_correlation_s.value;
         if s.bias_correlation_s.sigma.is_finite() && s.bias_correlation_s.sigma > 0.0 {
             within(&format!("{name} GM sigma"), &s.bias_sigma, sigma, 3.0);
-            within(&format!("{name} GM correlation"), &s.bias_correlation_s, t, 3.0);
+            within(
+                &format!("{name} GM correlation"),
+                &s.bias_correlation_s,
+                t,
+                3.0,
+            );
         } else {
             let slope = Estimate {
                 value: 2.0 * s.bias_sigma.value.powi(2) / est_t,
                 sigma: 4.0 * s.bias_sigma.value * s.bias_sigma.sigma / est_t,
                 upper_95: s.bias_sigma.upper_95.map(|u| 2.0 * u * u / est_t),
             };
-            within(&format!("{name} GM slope"), &slope, 2.0 * sigma * sigma / t, 3.0);
+            within(
+                &format!("{name} GM slope"),
+                &slope,
+                2.0 * sigma * sigma / t,
+                3.0,
+            );
         }
     }
     // The stretch means match the Earth rate and gravity to the bias level.
@@ -217,5 +264,8 @@ fn paper_noise_from_a_simulated_stationary_run() {
     // Conversions carry the identified figures.
     let m = id.to_noise_model();
     assert_eq!(m.gyro_quantum_rad, id.gyro.quantum.value);
-    assert_eq!(id.to_noise_spec().accel_vrw_mps_per_sqrt_s, m.accel_vrw_mps_per_sqrt_s);
+    assert_eq!(
+        id.to_noise_spec().accel_vrw_mps_per_sqrt_s,
+        m.accel_vrw_mps_per_sqrt_s
+    );
 }

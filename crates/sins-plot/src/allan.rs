@@ -37,7 +37,13 @@ pub struct AllanPanel<'a> {
 
 fn log10s(v: &[f64]) -> Vec<f64> {
     v.iter()
-        .map(|&x| if x > 0.0 && x.is_finite() { x.log10() } else { f64::NAN })
+        .map(|&x| {
+            if x > 0.0 && x.is_finite() {
+                x.log10()
+            } else {
+                f64::NAN
+            }
+        })
         .collect()
 }
 

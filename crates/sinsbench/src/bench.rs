@@ -114,6 +114,19 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
     )?;
     say_indented(&m.stdout)?;
 
+    let m = child(&[
+        "noise",
+        "--dataset",
+        &p(&dataset),
+        "--out",
+        &p(&args.dir.join("noise")),
+    ])?;
+    say!(
+        "noise identification 15 h / 200 Hz (Allan deviation of the 7 h stationary, fit, noise.toml, Allan PNG, .rrd): {:.2} s wall, peak RSS {:.0} MB",
+        m.wall_s,
+        m.peak_rss_mb
+    )?;
+
     // The navigation runs' own IMU (Table 1 constants + Table 3 temperature coefficients).
     let cal_exp = exp.join("paper_truth_calibration.toml");
     let cal_dir = args.dir.join("calibration");
@@ -129,7 +142,7 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
 
     let m = diagnose_set(&cal, &args.dir, &params_out, &args.dir.join("diagnosis"))?;
     say!(
-        "diagnose one set (4.2 h calibration run + three 15 h navigation runs: Parquet, replays, sensitivities, twin, fits, validation, report): {:.1} s wall, peak RSS {:.0} MB",
+        "diagnose one set (4.2 h calibration run + three 15 h navigation runs: Parquet, noise identification, replays, sensitivities, twin, fits, time-local scan, validation, report): {:.1} s wall, peak RSS {:.0} MB",
         m.wall_s,
         m.peak_rss_mb
     )?;

@@ -1,8 +1,8 @@
 //! `sinsbench diagnose`: where real data part from the twin, which unmodelled effect explains
 //! it, and how far the gap shrinks on withheld runs.
 
-use crate::out::{note, say};
 use crate::argcheck;
+use crate::out::{note, say};
 use anyhow::{Context, Result, bail};
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::noise::NoiseSpec;
@@ -102,7 +102,11 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     let (noise, noise_note) = match &args.noise_from {
         Some(path) => {
             let table = sins_config::load_noise(path)?;
-            let what = if table.from_noise_file { "noise file" } else { "[imu.noise] of experiment" };
+            let what = if table.from_noise_file {
+                "noise file"
+            } else {
+                "[imu.noise] of experiment"
+            };
             (
                 NoiseSpec::from(&table.noise),
                 format!("twin noise: the {what} {}", path.display()),
@@ -120,7 +124,9 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             let line = crate::noise::one_line(&id);
             (
                 id.to_noise_spec(),
-                format!("twin noise: identified from the data's stationary segments (sinsbench noise): {line}"),
+                format!(
+                    "twin noise: identified from the data's stationary segments (sinsbench noise): {line}"
+                ),
             )
         }
     };
