@@ -103,6 +103,15 @@ struct RunFile {
     thermal: Option<ThermalFile>,
 }
 
+/// Refuses an experiment or noise file of another schema version than this build reads.
+pub(crate) fn check_schema(ctx: &Ctx<'_>, schema: u32) -> Result<(), ConfigError> {
+    if schema == EXPERIMENT_SCHEMA {
+        return Ok(());
+    }
+    let msg = format!("unsupported schema version {schema} (this build reads {EXPERIMENT_SCHEMA})");
+    Err(ctx.invalid("schema", msg))
+}
+
 /// Reads an experiment file and everything it references (truth parameters, scheme and pattern
 /// tables, all relative to the file), validates it and returns one scenario per run.
 pub fn load_experiment(path: impl AsRef<Path>) -> Result<Experiment, ConfigError> {
@@ -113,13 +122,7 @@ pub fn load_experiment(path: impl AsRef<Path>) -> Result<Experiment, ConfigError
     })?;
     let ctx = Ctx::new(path, &text);
     let raw: ExperimentFile = toml_util::from_str(&text, &ctx.origin)?;
-    if raw.schema != EXPERIMENT_SCHEMA {
-        let msg = format!(
-            "unsupported schema version {} (this build reads {EXPERIMENT_SCHEMA})",
-            raw.schema
-        );
-        return Err(ctx.invalid("schema", msg));
-    }
+    check_schema(&ctx, raw.schema)?;
     check_name(&ctx, "name", &raw.name)?;
     if let Some(kind) = &raw.kind
         && kind.trim().is_empty()

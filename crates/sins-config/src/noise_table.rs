@@ -19,7 +19,7 @@
 
 use crate::ctx::Ctx;
 use crate::error::ConfigError;
-use crate::experiment::{EXPERIMENT_SCHEMA, NoiseFile, build_noise, load_experiment};
+use crate::experiment::{EXPERIMENT_SCHEMA, NoiseFile, build_noise, check_schema, load_experiment};
 use crate::files::write_file_atomically;
 use crate::toml_util;
 use crate::units::{DEG_PER_SQRT_H, UG_PER_SQRT_HZ};
@@ -110,13 +110,7 @@ pub fn load_noise(path: impl AsRef<Path>) -> Result<NoiseTable, ConfigError> {
     }
     let ctx = Ctx::new(path, &text);
     let raw: NoiseOnlyFile = toml_util::from_str(&text, &ctx.origin)?;
-    if raw.schema != EXPERIMENT_SCHEMA {
-        let msg = format!(
-            "unsupported schema version {} (this build reads {EXPERIMENT_SCHEMA})",
-            raw.schema
-        );
-        return Err(ctx.invalid("schema", msg));
-    }
+    check_schema(&ctx, raw.schema)?;
     let noise = build_noise(&ctx, &raw.imu.noise)?;
     let sigma = match &raw.imu.noise_sigma {
         Some(s) => Some(sigma_model(&ctx, s)?),

@@ -90,14 +90,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             .find(|(n, _)| n == "cal")
             .map(|(n, _)| n.clone()),
     };
-    let parent = args.out.parent().map_or(PathBuf::from("."), PathBuf::from);
-    let name = args
-        .out
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .context("--out must name a directory")?;
-    crate::outputs::sweep(&parent);
-    sins_report::check_output_dir(&parent, &name, "diagnose")?;
+    let (parent, name) = crate::outputs::output_dir(&args.out, "diagnose")?;
     let set = sins_config::load_params(&args.params)?;
     let (noise, noise_note) = match &args.noise_from {
         Some(path) => {

@@ -3,7 +3,7 @@
 //! `diagnose --noise-from` reads back.
 
 use crate::out::{note, say};
-use anyhow::{Context, Result};
+use anyhow::Result;
 use sins_config::units::{DEG_PER_SQRT_H, UG_PER_SQRT_HZ};
 use sins_nav::{ARCSEC, DEG_PER_H, UG};
 use sins_noiseid::{Estimate, IdentifiedNoise, SensorNoise};
@@ -194,9 +194,11 @@ fn sigma_model(id: &IdentifiedNoise) -> NoiseModel {
     }
 }
 
-fn plot(id: &IdentifiedNoise) -> Result<Vec<u8>, sins_plot::PlotError> {
-    let conv: Vec<(String, Vec<Vec<f64>>)> = id
-        .curves
+/// One channel's Allan curves in paper units (deg/h or ug): `(channel, τ, [adev, lo, hi, fit])`.
+type PaperCurve = (String, Vec<f64>, [Vec<f64>; 4]);
+
+fn paper_curves(id: &IdentifiedNoise) -> Vec<PaperCurve> {
+    id.curves
         .iter()
         .map(|c| {
             let u = if c.channel.starts_with("gyro") {
@@ -207,26 +209,25 @@ fn plot(id: &IdentifiedNoise) -> Result<Vec<u8>, sins_plot::PlotError> {
             let s = |v: &[f64]| v.iter().map(|x| x / u).collect::<Vec<f64>>();
             (
                 c.channel.clone(),
-                vec![
-                    c.tau_s.clone(),
-                    s(&c.adev),
-                    s(&c.lo),
-                    s(&c.hi),
-                    s(&c.fit_triad),
-                ],
+                c.tau_s.clone(),
+                [s(&c.adev), s(&c.lo), s(&c.hi), s(&c.fit_triad)],
             )
         })
-        .collect();
+        .collect()
+}
+
+fn plot(id: &IdentifiedNoise) -> Result<Vec<u8>, sins_plot::PlotError> {
+    let conv = paper_curves(id);
     let series = |prefix: &str| -> Vec<AllanSeries<'_>> {
         conv.iter()
-            .filter(|(n, _)| n.starts_with(prefix))
-            .map(|(n, v)| AllanSeries {
+            .filter(|(n, _, _)| n.starts_with(prefix))
+            .map(|(n, tau, v)| AllanSeries {
                 label: n.rsplit('_').next().unwrap_or(n),
-                tau_s: &v[0],
-                adev: &v[1],
-                lo: &v[2],
-                hi: &v[3],
-                fit: &v[4],
+                tau_s: tau,
+                adev: &v[0],
+                lo: &v[1],
+                hi: &v[2],
+                fit: &v[3],
             })
             .collect()
     };
@@ -292,26 +293,10 @@ fn write_outputs(
         sins_report::write_bytes(&dir.join("noise.toml"), toml.as_bytes())?;
         let png = plot(id).map_err(|e| mismatch("Allan plot", &e))?;
         sins_report::write_bytes(&dir.join("allan.png"), &png)?;
-        let paper: Vec<(String, [Vec<f64>; 4], Vec<f64>)> = id
-            .curves
-            .iter()
-            .map(|c| {
-                let u = if c.channel.starts_with("gyro") {
-                    DEG_PER_H
-                } else {
-                    UG
-                };
-                let s = |v: &[f64]| v.iter().map(|x| x / u).collect::<Vec<f64>>();
-                (
-                    c.channel.clone(),
-                    [s(&c.adev), s(&c.lo), s(&c.hi), s(&c.fit_triad)],
-                    c.tau_s.clone(),
-                )
-            })
-            .collect();
+        let paper = paper_curves(id);
         let records: Vec<AllanRecord<'_>> = paper
             .iter()
-            .map(|(ch, v, tau)| AllanRecord {
+            .map(|(ch, tau, v)| AllanRecord {
                 channel: ch,
                 tau_s: tau,
                 adev: &v[0],
@@ -339,14 +324,7 @@ fn write_outputs(
 /// Run `noise`.
 pub fn run(args: Args, quiet: bool) -> Result<()> {
     let datasets = crate::diagnose::parse_datasets(&args.datasets)?;
-    let parent = args.out.parent().map_or(PathBuf::from("."), PathBuf::from);
-    let name = args
-        .out
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .context("--out must name a directory")?;
-    crate::outputs::sweep(&parent);
-    sins_report::check_output_dir(&parent, &name, "noise")?;
+    let (parent, name) = crate::outputs::output_dir(&args.out, "noise")?;
     if !quiet {
         note!(
             "noise: Allan deviation of the stretches labelled {} in {} run(s)",

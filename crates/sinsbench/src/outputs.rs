@@ -5,7 +5,7 @@
 
 use crate::out::note;
 use anyhow::{Context, Result, bail};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
@@ -70,4 +70,18 @@ pub fn create_dir_target(dir: &Path, what: &str) -> Result<()> {
         );
     }
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))
+}
+
+/// The parent and name of an output directory `--out` of command `kind`, after sweeping the
+/// parent's stale temporaries and checking that `out` is absent or a previous output of
+/// `kind` (a user's directory is never replaced).
+pub fn output_dir(out: &Path, kind: &str) -> Result<(PathBuf, String)> {
+    let parent = out.parent().map_or(PathBuf::from("."), PathBuf::from);
+    let name = out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .context("--out must name a directory")?;
+    sweep(&parent);
+    sins_report::check_output_dir(&parent, &name, kind)?;
+    Ok((parent, name))
 }

@@ -43,12 +43,21 @@ fn rich_contexts(n: usize) -> Vec<EffectContext> {
         .collect()
 }
 
-/// `EffectSpec::typical(k, i)`, with the bias step moved inside the short test windows.
+/// `EffectSpec::typical(k, i)`, with the bias steps and events moved inside the short test
+/// windows.
 fn typical(k: EffectKind, i: usize) -> EffectSpec {
     match EffectSpec::typical(k, i) {
         EffectSpec::AccelBiasStep { step_mps2, .. } => EffectSpec::AccelBiasStep {
             step_mps2,
             time_s: 0.1,
+        },
+        EffectSpec::BiasEvent {
+            kind, magnitude_si, ..
+        } => EffectSpec::BiasEvent {
+            kind,
+            magnitude_si,
+            onset_s: 0.1,
+            time_constant_s: 1.0,
         },
         s => s,
     }
