@@ -584,11 +584,10 @@ fn scan_runs<'a>(
 
 /// The time-local scan of every run (see [`crate::events`]) against the deterministic winner's
 /// fit, or the twin alone when a random walk or nothing won. A winning walk is then refitted on
-/// the gap less the events no deterministic candidate explains: if it is no longer significant
-/// and the events explain more beyond their threshold than the walk beyond its own, its
-/// evidence was the events (a step or a transient is not a walk) and it is refused; otherwise
-/// each of those events that the fitted walk's covariance makes insignificant is explained by
-/// the walk.
+/// the gap less the events no deterministic candidate explains: if it is no longer significant,
+/// its evidence was the events (a step or a transient is not a walk) and it is refused;
+/// otherwise each of those events that the fitted walk's covariance makes insignificant is
+/// explained by the walk.
 fn time_local_events(
     ranked: &mut [Evaluated],
     sc: &ScanScope<'_>,
@@ -628,31 +627,23 @@ fn time_local_events(
         })
         .fold(0.0, f64::max);
     let p_value = (0.5 * chi2_sf(dchi2, 1.0) * sc.n_tests).min(1.0);
-    // Which explains more beyond its own significance threshold: the walk (one intensity) or
-    // the events (each found among every onset, shape and axis)?
-    let thr_walk = crate::stats::chi2_isf(2.0 * cfg.alpha / sc.n_tests, 1.0);
     let top = &mut ranked[0].report;
-    let walk_excess = top.dchi2 - thr_walk;
-    let events_excess: f64 = outside
-        .iter()
-        .map(|&i| events.events[i].chi2 - events.threshold_chi2)
-        .sum();
     if let Some(w) = top.whiteness.as_mut() {
         w.without_events_dchi2 = Some(dchi2);
     }
-    if p_value >= cfg.alpha && events_excess > walk_excess {
+    // A walk's evidence is spread over its independent increments; when all of it is carried by
+    // the events, those events are what the data hold, and the walk only fits them more freely
+    // (a free intensity absorbs a step or a transient; its chi-square drop can even exceed the
+    // event's, since it also bends to the misfit of the event's grid and shape).
+    if p_value >= cfg.alpha {
         notes.push(format!(
             "{}: refused; with the {} time-local event(s) outside the catalogue removed its \
-             chi-square drop falls from {:.1} to {:.1} (p {:.2}), and the events explain more \
-             beyond their threshold ({:.1}) than the walk beyond its own ({:.1}): the walk was \
-             absorbing them",
+             chi-square drop falls from {:.1} to {:.1} (p {:.2}): the walk was absorbing them",
             kind.name(),
             outside.len(),
             top.dchi2,
             dchi2,
             p_value,
-            events_excess,
-            walk_excess
         ));
         if let Some(w) = top.whiteness.as_mut() {
             w.consistent = false;
