@@ -608,12 +608,7 @@ fn time_local_events(
         return Ok((events, signals));
     };
     // The walk refitted on the gap less those events.
-    let mut corrected: Vec<RunFitData> = sc.data.to_vec();
-    for &i in &outside {
-        let e = &signals[i];
-        corrected[e.run].gap -= &e.contribution;
-    }
-    let p2 = Problem::new(&corrected.iter().collect::<Vec<_>>())?;
+    let p2 = without_events(sc.data, outside.iter().map(|&i| &signals[i]))?;
     let dchi2 = (0..3)
         .map(|a| {
             let b = first + a;
@@ -673,6 +668,18 @@ fn time_local_events(
     Ok((events, signals))
 }
 
+/// The fit problem of `data` with the events' fitted contributions taken off their runs' gaps.
+fn without_events<'a>(
+    data: &[RunFitData],
+    events: impl Iterator<Item = &'a EventSignal>,
+) -> Result<Problem, DiagError> {
+    let mut corrected = data.to_vec();
+    for e in events {
+        corrected[e.run].gap -= &e.contribution;
+    }
+    Problem::new(&corrected.iter().collect::<Vec<_>>())
+}
+
 /// The leading passing candidate's name, or `none`.
 fn leader(ranked: &[Evaluated]) -> &str {
     ranked
@@ -694,20 +701,16 @@ fn ranked_without_events(
     floor_var: f64,
     cfg: &DiagnoseConfig,
 ) -> Result<Option<Vec<Evaluated>>, DiagError> {
-    let outside: Vec<&EventSignal> = signals
+    let mut outside = signals
         .iter()
         .zip(&events.events)
         .filter(|(_, e)| e.explained_by.is_none())
         .map(|(s, _)| s)
-        .collect();
-    if outside.is_empty() {
+        .peekable();
+    if outside.peek().is_none() {
         return Ok(None);
     }
-    let mut corrected: Vec<RunFitData> = sc.data.to_vec();
-    for e in outside {
-        corrected[e.run].gap -= &e.contribution;
-    }
-    let p2 = Problem::new(&corrected.iter().collect::<Vec<_>>())?;
+    let p2 = without_events(sc.data, outside)?;
     let (mean, var) = p2.null_moments(floor_var);
     let again = evaluate(
         &p2,

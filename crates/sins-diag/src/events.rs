@@ -401,12 +401,6 @@ impl AxisSignals {
             );
         }
     }
-
-    /// Signals in one run of the visit.
-    fn count(&self, cfg: &EventScanConfig) -> usize {
-        let n = cfg.time_constants_s.len();
-        self.steps.ncols() * (2 + n) + if self.steps.ncols() > 0 { n } else { 0 }
-    }
 }
 
 /// Everything prepared for one run.
@@ -428,24 +422,41 @@ impl Prepared {
             _ => self.onset_s[m],
         }
     }
-
-    fn tests(&self, cfg: &EventScanConfig) -> usize {
-        self.axes.iter().map(|a| a.count(cfg)).sum()
-    }
 }
 
-fn prepare(r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<Prepared, DiagError> {
-    let s = r.sens;
+/// The run's covariance on its fit rows: twin noise and floor, calibration uncertainty, the
+/// run's extra term (a fitted walk) and `extra`.
+fn run_covariance(r: &ScanRun<'_>, extra: Option<&DMatrix<f64>>) -> DMatrix<f64> {
     let mut cov = &r.fit.cov + &r.fit.params * r.fit.params.transpose();
-    if let Some(e) = &r.extra_cov {
+    for e in r.extra_cov.iter().chain(extra) {
         cov += e;
     }
-    let w = RunWhitener::new(&cov)?;
+    cov
+}
+
+/// The onset grid of a run: output interval (s), grid step in output points, and the onsets
+/// (output indices from the start of navigation to the last fit time).
+fn onset_grid(
+    s: &RunSensitivity,
+    cfg: &EventScanConfig,
+) -> Result<(f64, usize, Vec<usize>), DiagError> {
     let out_dt = match s.times.times_s.as_slice() {
         [a, b, ..] => b - a,
         _ => return Err(DiagError::input(&s.run, "fewer than two output times")),
     };
     let every = ((cfg.onset_every_s as f64 / out_dt).round() as usize).max(1);
+    let first = s
+        .times
+        .times_s
+        .partition_point(|&t| t < s.times.nav_start_s - 1e-9);
+    let last_fit = s.times.fit_index.last().copied().unwrap_or(0);
+    Ok((out_dt, every, (first..last_fit).step_by(every).collect()))
+}
+
+fn prepare(r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<Prepared, DiagError> {
+    let s = r.sens;
+    let w = RunWhitener::new(&run_covariance(r, None))?;
+    let (out_dt, every, onsets) = onset_grid(s, cfg)?;
     let fit_every = match s.times.fit_index.as_slice() {
         [a, b, ..] => b - a,
         _ => return Err(DiagError::input(&s.run, "fewer than two fit times")),
@@ -453,12 +464,6 @@ fn prepare(r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<Prepared, DiagError
     let phis: Vec<Mat7> = (0..=fit_every.max(every))
         .map(|g| s.model.transition(g as f64 * out_dt))
         .collect();
-    let first = s
-        .times
-        .times_s
-        .partition_point(|&t| t < s.times.nav_start_s - 1e-9);
-    let last_fit = s.times.fit_index.last().copied().unwrap_or(0);
-    let onsets: Vec<usize> = (first..last_fit).step_by(every).collect();
     let onset_s: Vec<f64> = onsets.iter().map(|&m| s.times.times_s[m]).collect();
     let axes = (0..6)
         .map(|axis| {
@@ -552,11 +557,7 @@ pub fn chi2_with(
     contribution: &DVector<f64>,
     others: &[&DVector<f64>],
 ) -> Result<f64, DiagError> {
-    let mut cov = &r.fit.cov + &r.fit.params * r.fit.params.transpose() + extra;
-    if let Some(e) = &r.extra_cov {
-        cov += e;
-    }
-    let w = RunWhitener::new(&cov)?;
+    let w = RunWhitener::new(&run_covariance(r, Some(extra)))?;
     let mut n = Nuisance::new(w.whiten_vec(&r.residual));
     for c in w.whiten(&r.nuisance).column_iter() {
         n.add(&c.into_owned());
@@ -583,7 +584,10 @@ pub fn scan_with_signals(
     }
     // Runs one at a time (each holds its whitened step signals, about 20 MB for 15 h); the
     // family's size is known before any is scanned.
-    let tests: usize = runs.iter().map(|r| planned_tests(r, cfg)).sum();
+    let tests = runs
+        .iter()
+        .map(|r| planned_tests(r, cfg))
+        .sum::<Result<usize, _>>()?;
     let thr = chi2_isf(cfg.alpha / tests.max(1) as f64, 1.0);
     let mut out = EventScan {
         events: Vec::new(),
@@ -594,7 +598,6 @@ pub fn scan_with_signals(
     let mut signals = Vec::new();
     for (ri, r) in runs.iter().enumerate() {
         let p = prepare(r, cfg)?;
-        debug_assert_eq!(p.tests(cfg), planned_tests(r, cfg));
         let mut nuis = Nuisance::new(p.residual.clone());
         for v in &p.nuisance {
             nuis.add(v);
@@ -617,23 +620,11 @@ pub fn scan_with_signals(
     Ok((out, signals))
 }
 
-/// The number of signals [`scan`] tests on a run.
-fn planned_tests(r: &ScanRun<'_>, cfg: &EventScanConfig) -> usize {
-    let s = r.sens;
-    let (Some(dt), Some(&last)) = (
-        s.times.times_s.get(1).map(|t| t - s.times.times_s[0]),
-        s.times.fit_index.last(),
-    ) else {
-        return 0;
-    };
-    let every = ((cfg.onset_every_s as f64 / dt).round() as usize).max(1);
-    let first = s
-        .times
-        .times_s
-        .partition_point(|&t| t < s.times.nav_start_s - 1e-9);
-    let k = (first..last).step_by(every).count();
+/// The number of signals [`scan`] tests on a run (what [`AxisSignals::visit`] hands out).
+fn planned_tests(r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<usize, DiagError> {
+    let k = onset_grid(r.sens, cfg)?.2.len();
     let n = cfg.time_constants_s.len();
-    6 * (k * (2 + n) + if k > 0 { n } else { 0 })
+    Ok(6 * (k * (2 + n) + if k > 0 { n } else { 0 }))
 }
 
 /// The event `b` of run `p`.

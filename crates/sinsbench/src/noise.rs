@@ -32,14 +32,6 @@ pub struct Args {
     pub out: PathBuf,
 }
 
-/// Open the datasets and identify their noise (one pass over each).
-pub(crate) fn identify_datasets(
-    datasets: &[(String, PathBuf)],
-    labels: &[String],
-) -> Result<IdentifiedNoise> {
-    Ok(sins_gap::identify_datasets(datasets, labels)?)
-}
-
 /// A paper-unit figure with its 1-sigma (or upper bound).
 fn fig(e: &Estimate, per_unit: f64, digits: usize) -> String {
     let v = e.value / per_unit;
@@ -333,7 +325,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         );
     }
     let started = Instant::now();
-    let id = identify_datasets(&datasets, &args.labels)?;
+    let id = sins_gap::identify_datasets(&datasets, &args.labels)?;
     let seconds = started.elapsed().as_secs_f64();
     let dir = write_outputs(&parent, &name, &id, &datasets, seconds)?;
     for (term, v) in rows(&id.gyro, &id.accel) {
