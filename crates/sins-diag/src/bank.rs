@@ -2,6 +2,10 @@
 //! the sample's attitude and accumulated into the current bin's moments; at each bin end every
 //! column's linear error state is propagated, and at each output time its position error is
 //! recorded. Memory is per column and per output time, never per sample.
+//!
+//! Turn-on columns (see [`ColumnBank::with_turn_on`]) are propagated from the first sample,
+//! through the alignment, to the first output time only: their state there is all the time-local
+//! scan needs of an effect that starts at turn-on (see `crate::events`).
 
 use crate::align::{AlignmentReplica, CoarseJacobian};
 use crate::columns::{ColumnEval, Perturbation, SampleInputs, Triad};
@@ -24,6 +28,12 @@ pub struct ColumnBank {
     pub full: Vec<Vec<Vec7>>,
     /// Full states of the `keep_full` columns at the start of navigation.
     pub full_at_nav_start: Vec<Vec7>,
+    /// Columns propagated for the whole run (the turn-on columns follow them).
+    n_main: usize,
+    /// True once the turn-on columns have been recorded (they are no longer propagated).
+    turn_on_recorded: bool,
+    /// Full states of the turn-on columns at the first output time.
+    pub turn_on_at_first_output: Vec<Vec7>,
 }
 
 impl ColumnBank {
@@ -40,17 +50,41 @@ impl ColumnBank {
             full_at_nav_start: vec![Vec7::zeros(); keep_full.len()],
             keep_full,
             evals,
+            n_main: n,
+            turn_on_recorded: false,
+            turn_on_at_first_output: Vec::new(),
         }
     }
 
-    /// Number of columns.
-    pub fn len(&self) -> usize {
-        self.evals.len()
+    /// Add columns propagated only until the first output time, where their full state is
+    /// kept in [`Self::turn_on_at_first_output`] (in the order of `evals`).
+    pub fn with_turn_on(mut self, evals: Vec<ColumnEval>) -> Self {
+        let n = evals.len();
+        self.x.extend(std::iter::repeat_n(Vec7::zeros(), n));
+        self.mom.extend(std::iter::repeat_n(Moments::default(), n));
+        self.coarse
+            .extend(std::iter::repeat_n((Vec3::zeros(), Vec3::zeros()), n));
+        self.evals.extend(evals);
+        self
     }
 
-    /// True when the bank has no column.
+    /// Number of columns propagated for the whole run.
+    pub fn len(&self) -> usize {
+        self.n_main
+    }
+
+    /// True when the bank has no such column.
     pub fn is_empty(&self) -> bool {
-        self.evals.is_empty()
+        self.n_main == 0
+    }
+
+    /// Columns still propagated: all of them until the turn-on columns are recorded.
+    fn active(&self) -> usize {
+        if self.turn_on_recorded {
+            self.n_main
+        } else {
+            self.evals.len()
+        }
     }
 
     /// Coarse-alignment stage: sum each column's body-frame perturbation.
@@ -86,7 +120,8 @@ impl ColumnBank {
     /// Add this sample's forcing, resolved in NED with `c_nb`, applied `w_s` before the bin end.
     #[inline]
     pub fn add(&mut self, s: &SampleInputs, c_nb: &Mat3, w_s: f64) {
-        for (e, m) in self.evals.iter_mut().zip(&mut self.mom) {
+        let n = self.active();
+        for (e, m) in self.evals[..n].iter_mut().zip(&mut self.mom) {
             let u = match e.perturbation(s) {
                 Perturbation::Axis { triad, row, value } => {
                     let c = c_nb.column(row) * value;
@@ -107,7 +142,8 @@ impl ColumnBank {
 
     /// End of a bin: propagate every column with the bin's transition `phi`.
     pub fn end_bin(&mut self, model: &ErrorModel, phi: &Mat7) {
-        for (x, m) in self.x.iter_mut().zip(&mut self.mom) {
+        let n = self.active();
+        for (x, m) in self.x[..n].iter_mut().zip(&mut self.mom) {
             *x = phi * *x + model.input(m);
             *m = Moments::default();
         }
@@ -134,7 +170,11 @@ impl ColumnBank {
 
     /// Record every column's position error at an output time.
     pub fn record(&mut self) {
-        for (i, x) in self.x.iter().enumerate() {
+        if !self.turn_on_recorded {
+            self.turn_on_at_first_output = self.x[self.n_main..].to_vec();
+            self.turn_on_recorded = true;
+        }
+        for (i, x) in self.x[..self.n_main].iter().enumerate() {
             self.north_m[i].push(x[R_N]);
             self.east_m[i].push(x[R_E]);
         }

@@ -113,6 +113,11 @@ fn base_setup<'a>(
             fit_every: (cfg.fit_interval_s / cfg.output_interval_s.max(1)).max(1),
         },
         refine: None,
+        turn_on_taus_s: if cfg.events.enabled {
+            &cfg.events.time_constants_s
+        } else {
+            &[]
+        },
     }
 }
 

@@ -11,10 +11,12 @@
 //! - ramp of unit rate from `t_m`: `R_m = R_{m+1} + Δ (S_m + S_{m+1}) / 2` (trapezoid);
 //! - transient `e^{−(t − t_m)/τ}` (interval means `c d^k`, `d = e^{−Δ/τ}`,
 //!   `c = τ (1 − d)/Δ`): `T_m = c U_m`, `U_m = S_m − S_{m+1} + d U_{m+1}`;
-//! - turn-on transient (onset at the first sample, inside the alignment): the alignment
-//!   absorbs it as it absorbs a constant bias of its mean `b̄` over the alignment, the rest
-//!   acts from the start of navigation: `b̄ X + c b_ns U_ns − b̄ S_ns`. (An approximation of
-//!   the same order as the random walks' split of the alignment; see `problem::walk_factor`.)
+//! - turn-on transient (onset at the first sample, inside the alignment): the sensitivity pass
+//!   propagates `e^{−(t − t_0)/τ}` through the alignment replica to the first onset `t_1`
+//!   (state `Y_τ`); from there the error is carried by the model and the rest of the transient
+//!   acts as one with onset `t_1`: `H Φ(t − t_1) Y_τ + c b_1 U_1`, `b_1 = e^{−(t_1 − t_0)/τ}`.
+//!   A level accelerometer's transient that decays inside the alignment thereby leaves the
+//!   tilt the alignment's gains give it, not the tilt of its mean.
 //!
 //! # Test
 //! Every signal is whitened with the run's own covariance (twin noise, the floor, the
@@ -162,6 +164,24 @@ pub struct TimeLocalEvent {
     pub p_value: f64,
     /// A catalogue candidate that explains it (its columns of the run make it insignificant).
     pub explained_by: Option<String>,
+    /// Other channels whose best signal fits the run's residual within 9 (three sigma) of this
+    /// event's `T`: the data do not tell them from this one (a level accelerometer's turn-on
+    /// transient and a gyro's both leave the alignment with a tilt). Strongest first.
+    #[serde(default)]
+    pub alternatives: Vec<ChannelAlternative>,
+}
+
+/// A channel an event cannot be told from (see [`TimeLocalEvent::alternatives`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ChannelAlternative {
+    /// Channel (`gyro x` ...).
+    pub channel: String,
+    /// Shape of its best signal.
+    pub shape: String,
+    /// Time constant of that signal if a transient (s).
+    pub time_constant_s: Option<f64>,
+    /// Its `T` against the same residual.
+    pub chi2: f64,
 }
 
 /// The detectable size of one shape on one channel of one run at onsets through the run.
@@ -287,14 +307,8 @@ impl Nuisance {
     }
 }
 
-/// The step signals of one bias axis at every onset of the grid (fit rows × onsets), the
-/// constant-bias signal `X` on the fit rows, and the onset output indices.
-fn step_signals(
-    s: &RunSensitivity,
-    axis: usize,
-    onsets: &[usize],
-    phis: &[Mat7],
-) -> (DMatrix<f64>, DVector<f64>) {
+/// The step signals of one bias axis at every onset of the grid (fit rows × onsets).
+fn step_signals(s: &RunSensitivity, axis: usize, onsets: &[usize], phis: &[Mat7]) -> DMatrix<f64> {
     let fit = &s.times.fit_index;
     let x = &s.bias_states[axis];
     let rows = 2 * fit.len();
@@ -315,10 +329,25 @@ fn step_signals(
             out[(2 * i + 1, j)] = d[R_E];
         }
     }
-    let xf = DVector::from_fn(rows, |r, _| {
-        x[fit[r / 2]][if r % 2 == 0 { R_N } else { R_E }]
-    });
-    (out, xf)
+    out
+}
+
+/// `H Φ(t − t_1) y` on the fit rows: the position error carried by the model from state `y`
+/// at the first output time (index 0; zero before it).
+fn carried(s: &RunSensitivity, y: &Vec7, phis: &[Mat7]) -> DVector<f64> {
+    let fit = &s.times.fit_index;
+    let every = phis.len() - 1;
+    let mut out = DVector::zeros(2 * fit.len());
+    let (mut carry, mut prev) = (*y, 0);
+    for (i, &k) in fit.iter().enumerate() {
+        if k != prev {
+            carry = phis[(k - prev).min(every)] * carry;
+            prev = k;
+        }
+        out[2 * i] = carry[R_N];
+        out[2 * i + 1] = carry[R_E];
+    }
+    out
 }
 
 /// One axis of a run: whitened step signals at every onset and the whitened constant-bias
@@ -326,7 +355,8 @@ fn step_signals(
 struct AxisSignals {
     axis: usize,
     steps: DMatrix<f64>,
-    constant: DVector<f64>,
+    /// Whitened `H Φ(t − t_1) Y_τ` of each turn-on time constant.
+    turn_on: Vec<DVector<f64>>,
 }
 
 /// One signal handed to a visitor: its shape, onset index into the grid (0 for turn-on) and
@@ -380,17 +410,11 @@ impl AxisSignals {
         if k == 0 {
             return;
         }
-        // Turn-on: the mean over the alignment absorbed, the rest from the start of navigation.
-        let t_align = onset_s.first().map_or(0.0, |t| t - start_s).max(0.0);
-        let s0 = col(0);
+        // Turn-on: the alignment's share carried from the first onset, the rest from there.
+        let t_1 = onset_s.first().map_or(0.0, |t| t - start_s).max(0.0);
         for (i, &tau_s) in taus.iter().enumerate() {
-            let b_ns = (-t_align / tau_s).exp();
-            let b_bar = if t_align > 0.0 {
-                tau_s * (1.0 - b_ns) / t_align
-            } else {
-                1.0
-            };
-            let on = &self.constant * b_bar + &u[i] * (decay[i].1 * b_ns) - &s0 * b_bar;
+            let b_1 = (-t_1 / tau_s).exp();
+            let on = &self.turn_on[i] + &u[i] * (decay[i].1 * b_1);
             f(
                 Shape::Transient {
                     tau_s,
@@ -465,14 +489,20 @@ fn prepare(r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<Prepared, DiagError
         .map(|g| s.model.transition(g as f64 * out_dt))
         .collect();
     let onset_s: Vec<f64> = onsets.iter().map(|&m| s.times.times_s[m]).collect();
+    if s.turn_on_taus_s != cfg.time_constants_s || onsets.first().is_some_and(|&m| m != 0) {
+        return Err(DiagError::input(
+            &s.run,
+            "the sensitivity pass did not propagate the scan's turn-on transients",
+        ));
+    }
     let axes = (0..6)
-        .map(|axis| {
-            let (raw, x) = step_signals(s, axis, &onsets, &phis);
-            AxisSignals {
-                axis,
-                steps: w.whiten(&raw),
-                constant: w.whiten_vec(&x),
-            }
+        .map(|axis| AxisSignals {
+            axis,
+            steps: w.whiten(&step_signals(s, axis, &onsets, &phis)),
+            turn_on: s.turn_on_states[axis]
+                .iter()
+                .map(|y| w.whiten_vec(&carried(s, y, &phis)))
+                .collect(),
         })
         .collect();
     let nw = w.whiten(&r.nuisance);
@@ -494,7 +524,8 @@ fn prepare(r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<Prepared, DiagError
     })
 }
 
-/// The strongest signal of a run against the current nuisance.
+/// The strongest signal of a run against the current nuisance, with the best `T` (and its
+/// shape) of every axis.
 struct Best {
     axis: usize,
     shape: Shape,
@@ -503,17 +534,26 @@ struct Best {
     b: f64,
     t: f64,
     signal: DVector<f64>,
+    per_axis: Vec<(usize, Shape, f64)>,
 }
+
+/// `T` a rival channel may fall short of the best by and still not be told from it.
+const ALTERNATIVE_DT: f64 = 9.0;
 
 fn best(p: &Prepared, nuis: &Nuisance, cfg: &EventScanConfig) -> Option<Best> {
     let mut top: Option<Best> = None;
+    let mut per_axis = Vec::with_capacity(p.axes.len());
     for ax in &p.axes {
+        let mut axis_top: Option<(usize, Shape, f64)> = None;
         ax.visit(&p.onset_s, p.start_s, cfg, &mut |shape, m, sig| {
             let (a, b) = nuis.stat(sig.as_slice());
             if b <= 0.0 {
                 return;
             }
             let t = a * a / b;
+            if axis_top.is_none_or(|x| t > x.2) {
+                axis_top = Some((ax.axis, shape, t));
+            }
             if top.as_ref().is_none_or(|x| t > x.t) {
                 top = Some(Best {
                     axis: ax.axis,
@@ -523,11 +563,30 @@ fn best(p: &Prepared, nuis: &Nuisance, cfg: &EventScanConfig) -> Option<Best> {
                     b,
                     t,
                     signal: sig.clone(),
+                    per_axis: Vec::new(),
                 });
             }
         });
+        per_axis.extend(axis_top);
     }
-    top
+    top.map(|b| Best { per_axis, ..b })
+}
+
+/// The channels `b` cannot be told from, strongest first.
+fn alternatives(b: &Best) -> Vec<ChannelAlternative> {
+    let mut out: Vec<ChannelAlternative> = b
+        .per_axis
+        .iter()
+        .filter(|&&(axis, _, t)| axis != b.axis && t >= b.t - ALTERNATIVE_DT)
+        .map(|&(axis, shape, t)| ChannelAlternative {
+            channel: AXES[axis].to_string(),
+            shape: shape.label().to_string(),
+            time_constant_s: shape.tau_s(),
+            chi2: t,
+        })
+        .collect();
+    out.sort_by(|x, y| y.chi2.total_cmp(&x.chi2));
+    out
 }
 
 /// An event's signal on its run's fit rows (unwhitened), scaled by its fitted size: what the
@@ -709,6 +768,7 @@ fn event(
         chi2: b.t,
         p_value: (chi2_sf(b.t, 1.0) * tests as f64).min(1.0),
         explained_by,
+        alternatives: alternatives(b),
     }
 }
 

@@ -201,6 +201,7 @@ pub fn refine(
         let setup = SensitivitySetup {
             params: &params,
             refine: Some((l.kind, values)),
+            turn_on_taus_s: &[],
             ..*base_setup
         };
         let mut passes = corrected_pass(input, cfg, &setup, &spec)?;

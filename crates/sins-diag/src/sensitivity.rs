@@ -11,8 +11,10 @@ use crate::replay::ReplaySetup;
 use crate::source::SampleSource;
 use crate::temperature::TemperatureSeries;
 use nalgebra::DMatrix;
+use sins_imu::effects::time_local::{BiasEvent, EventShape};
+use sins_imu::effects::Sensor;
 use sins_imu::{EffectKind, EffectSpec, ImuErrorParams, Linearity};
-use sins_nav::Geodetic;
+use sins_nav::{Geodetic, Vec3};
 use sins_replay::ErrorPoint;
 
 /// Indices (into [`crate::columns::PARAM_SLOTS`]) of the six bias coefficients, whose full responses carry the
@@ -45,6 +47,12 @@ pub struct RunSensitivity {
     pub bias_states: Vec<Vec<Vec7>>,
     /// Full error states of the six bias columns at the start of navigation.
     pub bias_states_at_nav_start: Vec<Vec7>,
+    /// Time constants of the turn-on transient columns (s).
+    pub turn_on_taus_s: Vec<f64>,
+    /// Full state at the first output time of a unit bias `e^{-(t - t0)/τ}` from the first
+    /// sample (`t0` = [`PassTimes::start_s`]) on each bias axis (gyro x, y, z, accelerometer
+    /// x, y, z; rad/s or m/s²), through the alignment: `[axis][τ index]`.
+    pub turn_on_states: Vec<Vec<Vec7>>,
     /// Twin noise: position covariance `[var N, var E, cov NE]` at each output time (m²).
     pub envelope: Vec<[f64; 3]>,
     /// Twin noise: covariance of `[N_0, E_0, N_1, ...]` at the fit times (m²).
@@ -75,6 +83,9 @@ pub struct SensitivitySetup<'a> {
     /// Refinement pass: only the columns of this kind (no calibration columns), evaluated with
     /// the kind's own fitted perturbation (SI magnitudes) removed from the increments.
     pub refine: Option<(EffectKind, Vec<f64>)>,
+    /// Time constants (s) of the turn-on bias transients propagated through the alignment to
+    /// the first output time (see [`RunSensitivity::turn_on_states`]).
+    pub turn_on_taus_s: &'a [f64],
 }
 
 /// One pass over `source`: sensitivities of every candidate component and calibration
@@ -121,7 +132,16 @@ pub fn run_sensitivity(
                 .unwrap_or(0)
         })
         .collect();
-    let mut bank = ColumnBank::new(evals, keep);
+    let start_s = source.start_time_s();
+    let turn_on = (0..6)
+        .flat_map(|axis| {
+            setup
+                .turn_on_taus_s
+                .iter()
+                .map(move |&tau_s| turn_on_column(axis, tau_s, start_s))
+        })
+        .collect();
+    let mut bank = ColumnBank::new(evals, keep).with_turn_on(turn_on);
     let mut noise = NoiseProp::new(*setup.noise);
     let inp = PassInput {
         run,
@@ -143,6 +163,10 @@ pub fn run_sensitivity(
         None => None,
     };
     let times = run_pass(source, &inp, &mut bank, &mut noise, correction.as_mut())?;
+    let n_tau = setup.turn_on_taus_s.len();
+    let turn_on_states = (0..6)
+        .map(|a| bank.turn_on_at_first_output[a * n_tau..(a + 1) * n_tau].to_vec())
+        .collect();
     Ok(RunSensitivity {
         run: run.to_string(),
         fit_covariance: noise.fit_covariance(),
@@ -152,7 +176,24 @@ pub fn run_sensitivity(
         east_m: bank.east_m,
         bias_states: bank.full,
         bias_states_at_nav_start: bank.full_at_nav_start,
+        turn_on_taus_s: setup.turn_on_taus_s.to_vec(),
+        turn_on_states,
         times,
         model,
     })
+}
+
+/// The column of a unit bias `e^{-(t - start_s)/τ}` on bias axis `axis` (gyro x, y, z then
+/// accelerometer x, y, z; rad/s or m/s²) from the first sample.
+fn turn_on_column(axis: usize, tau_s: f64, start_s: f64) -> ColumnEval {
+    let mut magnitude = Vec3::zeros();
+    magnitude[axis % 3] = 1.0;
+    ColumnEval::Effect(Box::new(BiasEvent {
+        sensor: if axis < 3 { Sensor::Gyro } else { Sensor::Accel },
+        magnitude,
+        onset_s: start_s,
+        shape: EventShape::Transient {
+            time_constant_s: tau_s,
+        },
+    }))
 }

@@ -120,3 +120,32 @@ fn a_turn_on_gyro_transient_is_found_in_both_runs() {
         d.verdict
     );
 }
+
+/// A level accelerometer's turn-on transient that decays inside the 1200 s alignment leaves,
+/// through the alignment's gains, mostly a tilt, which a gyro's turn-on transient also leaves:
+/// propagated through the alignment replica, the signal is found with its true size, and the
+/// event names its channel, as the event's or as one the data cannot tell from it.
+#[test]
+fn a_turn_on_accelerometer_transient_shorter_than_the_alignment_names_its_channel() {
+    let t = timed(EffectKind::AccelBiasTransient, 0, -500.0, 0.0, 750.0);
+    let d = diagnosed([vec![t.clone()], vec![t]]);
+    for run in ["run0", "run1"] {
+        let e = d
+            .events
+            .events
+            .iter()
+            .find(|e| {
+                e.run == run
+                    && (e.channel == "accel x"
+                        || e.alternatives.iter().any(|a| a.channel == "accel x"))
+            })
+            .unwrap_or_else(|| panic!("accel x not named in {run}: {:?}", d.events.events));
+        assert_eq!(e.shape, "turn-on transient", "{e:?}");
+        assert!(e.explained_by.is_none(), "{e:?}");
+        if e.channel == "accel x" {
+            // Its size is the injected one within 3 sigma plus the time-constant grid's bias
+            // (the nearest grid time constants, 600 and 1200 s, fit -490 and -485 ug).
+            assert!((e.size + 500.0).abs() < 3.0 * e.size_sigma + 25.0, "{e:?}");
+        }
+    }
+}

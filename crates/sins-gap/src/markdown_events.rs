@@ -17,7 +17,8 @@ pub fn render_events(scan: &EventScan) -> String {
          transients on each sensor axis of each run, against the winner's fit (or the twin): \
          {} tests, Bonferroni threshold χ² = {:.1}. An event no catalogue term explains is an \
          effect outside the catalogue. Onset ± 1σ from the profile likelihood (3σ interval: the \
-         onsets within Δχ² = 9 of the best).\n",
+         onsets within Δχ² = 9 of the best). \"not told from\" lists the other channels whose best \
+         signal comes within Δχ² = 9 of the event's: the data do not say which of them it is.\n",
         scan.tests, scan.threshold_chi2
     );
     if scan.events.is_empty() {
@@ -25,12 +26,12 @@ pub fn render_events(scan: &EventScan) -> String {
     } else {
         let _ = writeln!(
             md,
-            "| run | channel | shape | onset ± 1σ (s) | size ± 1σ | τ (s) | χ² | p | explained by |\n|---|---|---|---|---|---|---|---|---|"
+            "| run | channel | shape | onset ± 1σ (s) | size ± 1σ | τ (s) | χ² | p | explained by | not told from |\n|---|---|---|---|---|---|---|---|---|---|"
         );
         for e in &scan.events {
             let _ = writeln!(
                 md,
-                "| {} | {} | {} | {:.0} ± {:.0} | {:.3e} ± {:.1e} {} | {} | {:.1} | {:.1e} | {} |",
+                "| {} | {} | {} | {:.0} ± {:.0} | {:.3e} ± {:.1e} {} | {} | {:.1} | {:.1e} | {} | {} |",
                 e.run,
                 e.channel,
                 e.shape,
@@ -43,6 +44,15 @@ pub fn render_events(scan: &EventScan) -> String {
                 e.chi2,
                 e.p_value,
                 e.explained_by.as_deref().unwrap_or("outside the catalogue"),
+                if e.alternatives.is_empty() {
+                    "-".to_string()
+                } else {
+                    e.alternatives
+                        .iter()
+                        .map(|a| format!("{} (χ² {:.1})", a.channel, a.chi2))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                },
             );
         }
     }

@@ -126,6 +126,7 @@ pub fn sensitivity(
         candidates,
         grid,
         refine: None,
+        turn_on_taus_s: &[],
     };
     run_sensitivity("test", src, &sc.site, &t.points, &t.temperatures, &setup).expect("pass")
 }

@@ -64,9 +64,11 @@ pub struct Grades {
     pub confusion: BTreeMap<String, BTreeMap<String, usize>>,
     /// Detectable level per kind (paper unit): the median over the cases of that kind.
     pub detectable_by_kind: BTreeMap<String, f64>,
-    /// Time-local cases above their detectable level reported on their channel with the onset
-    /// within 3 sigma / such cases.
+    /// Time-local cases above their detectable level reported with the onset within 3 sigma and
+    /// their channel named (the event's own or an indistinguishable alternative) / such cases.
     pub time_local_found: (usize, usize),
+    /// The same with the channel the event's own.
+    pub time_local_found_on_channel: (usize, usize),
     /// Null cases with a time-local event outside the catalogue / null cases.
     pub time_local_false_alarms: (usize, usize),
 }
@@ -180,6 +182,12 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
         tl.iter().filter(|t| t.onset_within_3_sigma).count(),
         tl.len(),
     );
+    let time_local_found_on_channel = (
+        tl.iter()
+            .filter(|t| t.onset_within_3_sigma && !t.as_alternative)
+            .count(),
+        tl.len(),
+    );
     let time_local_false_alarms = (
         nulls.iter().filter(|g| g.unexplained_event).count(),
         nulls.len(),
@@ -225,6 +233,7 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
             .collect(),
         confusion,
         time_local_found,
+        time_local_found_on_channel,
         time_local_false_alarms,
         cases: out,
     }
@@ -358,6 +367,7 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
         md.push_str(&time_local::render(
             &rows,
             g.time_local_found,
+            g.time_local_found_on_channel,
             g.time_local_false_alarms,
             frac,
         ));
@@ -369,7 +379,7 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
 mod tests {
     use super::*;
     use crate::blind::plan::HiddenEffect;
-    use sins_diag::events::TimeLocalEvent;
+    use sins_diag::events::{ChannelAlternative, TimeLocalEvent};
     use sins_diag::report::{
         CandidateModel, CandidateReport, ChiSquareTest, ComponentEstimate, GapMetrics,
         ValidationReport,
@@ -512,6 +522,7 @@ mod tests {
             chi2: 100.0,
             p_value: 1e-10,
             explained_by: None,
+            alternatives: Vec::new(),
         }
     }
 
@@ -553,6 +564,17 @@ mod tests {
                 step(Some("nav1")),
                 with(vec![event("nav1", "gyro x", 10_000.0, 300.0)]),
             ),
+            // the channel named as one the data cannot tell from the event's own
+            (step(Some("nav1")), {
+                let mut e = event("nav1", "accel x", 10_000.0, 300.0);
+                e.alternatives.push(ChannelAlternative {
+                    channel: "gyro y".into(),
+                    shape: "step".into(),
+                    time_constant_s: None,
+                    chi2: 95.0,
+                });
+                with(vec![e])
+            }),
             // a null case with an event outside the catalogue: a time-local false alarm
             (
                 answer("n1", None),
@@ -560,7 +582,9 @@ mod tests {
             ),
         ];
         let g = grade(&cases);
-        assert_eq!(g.time_local_found, (1, 4));
+        assert_eq!(g.time_local_found, (2, 5));
+        assert_eq!(g.time_local_found_on_channel, (1, 5));
+        assert!(g.cases[4].time_local.as_ref().is_some_and(|t| t.as_alternative));
         assert_eq!(g.time_local_false_alarms, (1, 1));
         // Drawn time-local cases are not counted with the original out-of-catalogue cases.
         assert_eq!(g.out_of_catalogue_unexplained.1, 0);
