@@ -4,14 +4,17 @@
 use crate::GapError;
 use crate::source::DatasetSource;
 use sins_diag::source::SampleSource;
+use sins_imu::ImuErrorParams;
 use sins_noiseid::{IdentifiedNoise, NoiseIdConfig, RunStationary};
 use std::path::PathBuf;
 
 /// Open `datasets` (`(name, path)`) and identify their noise from the segments labelled
-/// `labels` (one pass over each).
+/// `labels` (one pass over each), the accelerometer increments compensated with
+/// `compensation` when given (see [`RunStationary::compensation`]).
 pub fn identify_datasets(
     datasets: &[(String, PathBuf)],
     labels: &[String],
+    compensation: Option<&ImuErrorParams>,
 ) -> Result<IdentifiedNoise, GapError> {
     let mut sources = Vec::new();
     for (name, path) in datasets {
@@ -27,6 +30,7 @@ pub fn identify_datasets(
                 source: s as &mut dyn SampleSource,
                 segment_labels,
                 site,
+                compensation: compensation.copied(),
             }
         })
         .collect();

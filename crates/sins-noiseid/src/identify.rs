@@ -12,6 +12,7 @@ use crate::result::{
     AllanCurve, Estimate, IdentifiedNoise, RunUsage, SensorNoise, StretchReport, instability_of,
 };
 use sins_diag::source::SampleSource;
+use sins_imu::{Compensator, ImuErrorParams};
 use sins_nav::alignment::coarse_align;
 use sins_nav::earth::{earth_rate_ned_radps, normal_gravity_mps2};
 use sins_nav::{Geodetic, Vec3};
@@ -26,6 +27,13 @@ pub struct RunStationary<'a> {
     pub segment_labels: Vec<String>,
     /// The turntable site (for the Earth-rate and gravity check of each stretch).
     pub site: Geodetic,
+    /// The calibrated parameter set, if known: the accelerometer increments are compensated
+    /// with it (bias, scale, misalignment and the temperature terms of a 42-state set) before
+    /// the Allan variance, so that the chamber's temperature drift does not pass for bias
+    /// instability. The gyro increments stay raw: their model has no temperature term, its
+    /// constant terms cancel in the second differences, and the quantum is read from the raw
+    /// count lattice.
+    pub compensation: Option<ImuErrorParams>,
 }
 
 /// The Gauss-Markov correlation-time grid ends at this multiple of the longest `τ` fitted.
@@ -70,9 +78,24 @@ pub fn identify_noise(
             .iter()
             .map(|l| cfg.labels.iter().any(|k| k == l))
             .collect();
+        let comp = match &r.compensation {
+            Some(p) => Some(Compensator::new(*p).ok_or_else(|| NoiseIdError::Run {
+                run: r.name.clone(),
+                reason: "the compensation parameter set is singular".into(),
+            })?),
+            None => None,
+        };
         r.source.visit(&mut |samples, segs| {
             for (s, g) in samples.iter().zip(segs) {
-                acc.push(i, s, keep.get(usize::from(*g)).copied().unwrap_or(false));
+                let stationary = keep.get(usize::from(*g)).copied().unwrap_or(false);
+                match &comp {
+                    Some(c) if stationary => {
+                        let mut s = *s;
+                        s.dv_mps = c.dv_mps(&s.dv_mps, h_s, &s.temp_degc);
+                        acc.push(i, &s, true);
+                    }
+                    _ => acc.push(i, s, stationary),
+                }
             }
             Ok(())
         })?;
@@ -128,6 +151,22 @@ pub fn identify_noise(
     let gyro = ctx.fit_gyro(lattice);
     let accel = ctx.fit_triad(3, None, [false, true, true, false]);
     let mut notes = Vec::new();
+    let compensated: Vec<&str> = runs
+        .iter()
+        .filter(|r| r.compensation.is_some())
+        .map(|r| r.name.as_str())
+        .collect();
+    notes.push(if compensated.is_empty() {
+        "accelerometer increments raw (no calibrated set given): a temperature drift of the bias \
+         during a stretch adds to the bias instability"
+            .to_string()
+    } else {
+        format!(
+            "accelerometer increments compensated with the calibrated set (temperature terms \
+             included) in {}",
+            compensated.join(", ")
+        )
+    });
     let mut gyro_axes: Vec<SensorNoise> = (0..3)
         .map(|a| gyro.axes[a].summary(lattice.map(|q| q[a])))
         .collect();

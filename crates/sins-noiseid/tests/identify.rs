@@ -97,6 +97,7 @@ fn white_plus_gauss_markov_is_identified_within_its_sigma() {
             source: s,
             segment_labels: vec!["stationary".into()],
             site: Geodetic::from_deg(28.2, 113.0, 60.0),
+            compensation: None,
         })
         .collect();
     let id = identify_noise(&mut runs, &NoiseIdConfig::default()).expect("identified");
@@ -196,6 +197,7 @@ fn paper_noise_from_a_simulated_stationary_run() {
         source: &mut src,
         segment_labels: labels,
         site: Geodetic::from_deg(28.22, 112.99, 60.0),
+        compensation: None,
     }];
     let id = identify_noise(&mut runs, &NoiseIdConfig::default()).expect("identified");
     eprintln!("{:#?}\n{:#?}\n{:?}", id.gyro, id.accel, id.notes);

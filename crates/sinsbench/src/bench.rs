@@ -114,19 +114,6 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
     )?;
     say_indented(&m.stdout)?;
 
-    let m = child(&[
-        "noise",
-        "--dataset",
-        &p(&dataset),
-        "--out",
-        &p(&args.dir.join("noise")),
-    ])?;
-    say!(
-        "noise identification 15 h / 200 Hz (Allan deviation of the 7 h stationary, fit, noise.toml, Allan PNG, .rrd): {:.2} s wall, peak RSS {:.0} MB",
-        m.wall_s,
-        m.peak_rss_mb
-    )?;
-
     // The navigation runs' own IMU (Table 1 constants + Table 3 temperature coefficients).
     let cal_exp = exp.join("paper_truth_calibration.toml");
     let cal_dir = args.dir.join("calibration");
@@ -136,6 +123,21 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
     let m = calibrate_42(&cal, &params_out)?;
     say!(
         "calibrate 4.2 h / 200 Hz with the 42-state filter (Parquet decode + alignment + filter, 1 s updates, history and .rrd): {:.2} s wall, peak RSS {:.0} MB",
+        m.wall_s,
+        m.peak_rss_mb
+    )?;
+
+    let m = child(&[
+        "noise",
+        "--dataset",
+        &p(&dataset),
+        "--params",
+        &p(&params_out),
+        "--out",
+        &p(&args.dir.join("noise")),
+    ])?;
+    say!(
+        "noise identification 15 h / 200 Hz (accelerometers compensated with the 42-state set, Allan deviation of the 7 h stationary, fit, noise.toml, Allan PNG, .rrd): {:.2} s wall, peak RSS {:.0} MB",
         m.wall_s,
         m.peak_rss_mb
     )?;

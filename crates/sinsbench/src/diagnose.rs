@@ -112,7 +112,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                     args.noise_labels.join(", ")
                 );
             }
-            let id = sins_gap::identify_datasets(&datasets, &args.noise_labels)
+            let id = sins_gap::identify_datasets(&datasets, &args.noise_labels, Some(&set.params))
                 .context("no --noise-from was given, so the noise is identified from the data (give --noise-from FILE to use a file instead)")?;
             let line = crate::noise::one_line(&id);
             (

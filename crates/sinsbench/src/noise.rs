@@ -30,6 +30,12 @@ pub struct Args {
     /// `noise` output.
     #[arg(long, default_value = "reports/noise")]
     pub out: PathBuf,
+    /// A calibrated parameter set (TOML, as `calibrate` writes): the accelerometer increments
+    /// are compensated with it first, so that the chamber's temperature drift of the bias is
+    /// not read as bias instability (`diagnose` always passes its --params). Without it the
+    /// increments are used raw.
+    #[arg(long, value_name = "FILE")]
+    pub params: Option<PathBuf>,
 }
 
 /// A paper-unit figure with its 1-sigma (or upper bound).
@@ -325,7 +331,11 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         );
     }
     let started = Instant::now();
-    let id = sins_gap::identify_datasets(&datasets, &args.labels)?;
+    let set = match &args.params {
+        Some(p) => Some(sins_config::load_params(p)?),
+        None => None,
+    };
+    let id = sins_gap::identify_datasets(&datasets, &args.labels, set.as_ref().map(|s| &s.params))?;
     let seconds = started.elapsed().as_secs_f64();
     let dir = write_outputs(&parent, &name, &id, &datasets, seconds)?;
     for (term, v) in rows(&id.gyro, &id.accel) {
