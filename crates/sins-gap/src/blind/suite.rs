@@ -183,7 +183,8 @@ pub fn twin_noise(cfg: &SuiteConfig) -> Result<NoiseSpec, GapError> {
 }
 
 /// One case: generate the "real" IMU's data from its answer under `cfg.out/cases/<case>/data`
-/// (removed afterwards unless `keep_datasets`), diagnose the files blind and write the
+/// (removed afterwards unless `keep_datasets`), diagnose the files blind (against `noise`, or
+/// the noise identified from the case's own datasets with `cfg.identified_noise`) and write the
 /// diagnosis to `cfg.out/cases/<case>/diagnosis/`. Data a killed earlier attempt left is
 /// replaced.
 pub fn run_case(
@@ -202,6 +203,12 @@ pub fn run_case(
     let generate_s = t.elapsed().as_secs_f64();
     // From here on the diagnosis sees only files and the calibrated parameter set.
     let t = Instant::now();
+    let noise = if cfg.identified_noise {
+        let labels = sins_noiseid::NoiseIdConfig::default().labels;
+        crate::identify_datasets(&datasets, &labels, Some(&cal.params))?.to_noise_spec()
+    } else {
+        noise
+    };
     let request = DiagnoseRequest {
         datasets,
         params: cal.params,
