@@ -8,14 +8,16 @@
 //! aligning strapdown therefore obeys the error dynamics between updates and `e ← (I - K_k H) e`
 //! at update `k` (position reset to the site), starting from the coarse error
 //! `φ_c = J [mean δf^b; mean δω^b]` with `J` the Jacobian of the TRIAD at the data's own means.
-//! This module reproduces the gain sequence exactly (same Φ, Q, R, P0 as the filter) and the
-//! Jacobian by central differences of `sins_nav::alignment::coarse_align`.
+//! This module reproduces the gain sequence exactly (the filter's own Φ, Q, H, R, P0 and
+//! covariance step, `sins_nav::alignment::FineFilterModel`, built from
+//! `sins_nav::error_model::AlignmentModel`) and the Jacobian by central differences of
+//! `sins_nav::alignment::coarse_align`.
 
 use crate::error::DiagError;
 use crate::model::{ErrorModel, Mat7, Vec7};
-use nalgebra::{Matrix2, Matrix2x5, Matrix5, Matrix5x2, SMatrix, Vector5};
-use sins_nav::alignment::{AlignmentConfig, coarse_align};
-use sins_nav::attitude::{attitude_error_ned_rad, skew};
+use nalgebra::{Matrix5x2, SMatrix};
+use sins_nav::alignment::{AlignmentConfig, FineFilterModel, coarse_align};
+use sins_nav::attitude::attitude_error_ned_rad;
 use sins_nav::{Geodetic, StrapdownConfig, Vec3};
 
 /// Jacobian of the coarse attitude error φ (rad) with respect to `[mean δf^b (m/s²), mean δω^b
@@ -97,46 +99,18 @@ impl AlignmentReplica {
     }
 }
 
-/// The fine filter's gain sequence (same recursion as `SelfAlignment`'s fine stage).
+/// The fine filter's gain sequence: `SelfAlignment`'s fine stage's own model and covariance
+/// step, run `n_updates` times (a singular innovation covariance gives a zero gain).
 fn fine_gains(c: &AlignmentConfig, site: &Geodetic, n_updates: usize) -> Vec<Matrix5x2<f64>> {
-    let earth = sins_nav::EarthAt::new(site.lat_rad, site.height_m);
-    let dt = c.update_interval_s;
-    let w = skew(&earth.earth_rate_ned_radps);
-    let f = skew(&Vec3::new(0.0, 0.0, -earth.gravity_mps2));
-    let mut fm = Matrix5::<f64>::zeros();
-    fm.fixed_view_mut::<3, 3>(0, 0).copy_from(&(-w));
-    fm.fixed_view_mut::<2, 3>(3, 0)
-        .copy_from(&f.fixed_view::<2, 3>(0, 0));
-    fm.fixed_view_mut::<2, 2>(3, 3)
-        .copy_from(&(-2.0 * w).fixed_view::<2, 2>(0, 0));
-    let fdt = fm * dt;
-    let phi = Matrix5::identity() + fdt + fdt * fdt * 0.5;
-    let qa = c.gyro_arw_rad_per_sqrt_s.max(1e-12).powi(2) * dt;
-    let qv = c.accel_vrw_mps_per_sqrt_s.max(1e-10).powi(2) * dt;
-    let q = Matrix5::from_diagonal(&Vector5::new(qa, qa, qa, qv, qv));
-    let (l, hd) = (
-        c.initial_level_sigma_rad.powi(2),
-        c.initial_heading_sigma_rad.powi(2),
-    );
-    let mut p = Matrix5::from_diagonal(&Vector5::new(l, l, hd, 1e-4, 1e-4));
-    let r = Matrix2::from_diagonal_element(c.velocity_sigma_mps.powi(2));
-    let mut hm = Matrix2x5::<f64>::zeros();
-    hm[(0, 3)] = 1.0;
-    hm[(1, 4)] = 1.0;
-    let mut gains = Vec::with_capacity(n_updates);
-    for _ in 0..n_updates {
-        p = phi * p * phi.transpose() + q;
-        let s = hm * p * hm.transpose() + r;
-        let Some(s_inv) = s.try_inverse() else {
-            gains.push(Matrix5x2::zeros());
-            continue;
-        };
-        let k: Matrix5x2<f64> = p * hm.transpose() * s_inv;
-        let ikh = Matrix5::identity() - k * hm;
-        p = ikh * p * ikh.transpose() + k * r * k.transpose();
-        gains.push(k);
-    }
-    gains
+    let model = FineFilterModel::new(c, site);
+    let mut p = model.p0;
+    (0..n_updates)
+        .map(|_| {
+            model
+                .covariance_step(&mut p)
+                .unwrap_or_else(Matrix5x2::zeros)
+        })
+        .collect()
 }
 
 /// Jacobian of the coarse alignment's attitude error at the mean specific force `f_body_mps2`

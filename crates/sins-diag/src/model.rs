@@ -8,28 +8,31 @@
 //! δṙ = δv
 //! ```
 //!
-//! (the static model of `sins_nav::linear` with positions in metres). The IMU centre does not
+//! (the static model of `sins_nav::linear` with positions in metres). `A` is the `F` of
+//! [`sins_nav::error_model::StaticModel`], the projection of the workspace's one error model at
+//! rest; this module adds the diagnosis' input machinery. The IMU centre does not
 //! translate, so `A` is constant; all time variation (body attitude under rotations and
 //! vibration) sits in the forcing `ε^n = C_nb ε^b`, `∇^n = C_nb ∇^b`, which the diagnosis
 //! integrates at the sample rate into bins with three moments (see [`Moments`]) so that a bin
 //! update is exact to second order in `A·Δ` however fast the forcing oscillates inside the bin.
 
-use nalgebra::{SMatrix, SVector};
-use sins_nav::{EarthAt, Geodetic, Wgs84};
+use nalgebra::SVector;
+use sins_nav::error_model::{self, ACCEL_INPUT_SIGN, GYRO_INPUT_SIGN, StaticModel};
+use sins_nav::{EarthAt, Geodetic};
 
 /// Number of navigation error states.
-pub const NX: usize = 7;
-/// Navigation error state vector.
-pub type Vec7 = SVector<f64, NX>;
+pub const NX: usize = error_model::STATIC_STATES;
+/// Navigation error state vector (rad, m/s, m).
+pub type Vec7 = error_model::Vec7;
 /// 7x7 matrix.
-pub type Mat7 = SMatrix<f64, NX, NX>;
+pub type Mat7 = error_model::Mat7;
 /// Forcing of one bin: `[ε_N, ε_E, ε_D (rad), ∇_N, ∇_E (m/s)]` as increments in NED.
 pub type Forcing = SVector<f64, 5>;
 
-/// Index of the north position error.
-pub const R_N: usize = 5;
-/// Index of the east position error.
-pub const R_E: usize = 6;
+/// Index of the north position error (m).
+pub const R_N: usize = error_model::STATIC_R_N;
+/// Index of the east position error (m).
+pub const R_E: usize = error_model::STATIC_R_E;
 
 /// Three moments of the forcing increments `u_j` applied at times `s_j` inside a bin of length
 /// `Δ`: `m1 = Σ u_j`, `m2 = Σ (Δ - s_j) u_j`, `m3 = Σ (Δ - s_j)² / 2 · u_j`. The state at the bin
@@ -54,55 +57,35 @@ impl Moments {
     }
 }
 
-/// The constant error dynamics at one site and its discretisations.
+/// The constant error dynamics at one site and its discretisations: a thin wrapper of
+/// [`StaticModel`] that caches `A²` for the bin inputs.
 #[derive(Clone, Debug)]
 pub struct ErrorModel {
-    /// Continuous dynamics matrix `A`.
+    /// Continuous dynamics matrix `A` (the static model's `F`, 1/s).
     pub a: Mat7,
     /// `A²`.
     pub a2: Mat7,
     /// Earth quantities at the site.
     pub earth: EarthAt,
+    /// The error model this wraps.
+    model: StaticModel,
 }
 
 impl ErrorModel {
     /// Model at a fixed `site`.
     pub fn new(site: &Geodetic) -> Self {
-        let e = EarthAt::new(site.lat_rad, site.height_m);
-        let om = Wgs84::OMEGA_IE_RADPS;
-        let (sl, cl) = (e.sin_lat, e.cos_lat);
-        let (rm, rn) = (e.meridian_plus_h_m, e.transverse_plus_h_m);
-        let g = e.gravity_mps2;
-        let mut a = Mat7::zeros();
-        // -ω_ie × φ with ω_ie = [Ω cL, 0, -Ω sL].
-        a[(0, 1)] = -om * sl;
-        a[(1, 0)] = om * sl;
-        a[(1, 2)] = om * cl;
-        a[(2, 1)] = -om * cl;
-        // δω_en = [δv_E/Rn, -δv_N/Rm, -δv_E tanL/Rn]; δω_ie = [-Ω sL δL, 0, -Ω cL δL], δL = δr_N/Rm.
-        a[(0, 4)] = 1.0 / rn;
-        a[(1, 3)] = -1.0 / rm;
-        a[(2, 4)] = -sl / cl / rn;
-        a[(0, R_N)] = -om * sl / rm;
-        a[(2, R_N)] = -om * cl / rm;
-        // f × φ with f = [0, 0, -g].
-        a[(3, 1)] = g;
-        a[(4, 0)] = -g;
-        // -2 ω_ie × δv (horizontal).
-        a[(3, 4)] = -2.0 * om * sl;
-        a[(4, 3)] = 2.0 * om * sl;
-        a[(R_N, 3)] = 1.0;
-        a[(R_E, 4)] = 1.0;
+        let model = StaticModel::new(site.lat_rad, site.height_m);
         Self {
-            a2: a * a,
-            a,
-            earth: e,
+            a: model.f,
+            a2: model.f * model.f,
+            earth: model.earth,
+            model,
         }
     }
 
     /// State transition over `dt_s`.
     pub fn transition(&self, dt_s: f64) -> Mat7 {
-        (self.a * dt_s).exp()
+        self.model.transition(dt_s)
     }
 
     /// The bin input `B m1 + A B m2 + A² B m3` of a forcing's moments.
@@ -113,33 +96,20 @@ impl ErrorModel {
 
     /// Discrete covariance over `dt_s` of isotropic white gyro noise (angle random walk
     /// `arw_rad_per_sqrt_s`) and accelerometer noise (velocity random walk `vrw_mps_per_sqrt_s`),
-    /// by Van Loan's method. Isotropic body noise stays isotropic in NED whatever the attitude.
+    /// by Van Loan's method ([`StaticModel::process_noise`]). Isotropic body noise stays
+    /// isotropic in NED whatever the attitude.
     pub fn white_noise(&self, dt_s: f64, arw_rad_per_sqrt_s: f64, vrw_mps_per_sqrt_s: f64) -> Mat7 {
-        let mut qc = Mat7::zeros();
-        for i in 0..3 {
-            qc[(i, i)] = arw_rad_per_sqrt_s.powi(2);
-        }
-        for i in 3..5 {
-            qc[(i, i)] = vrw_mps_per_sqrt_s.powi(2);
-        }
-        let mut m = SMatrix::<f64, 14, 14>::zeros();
-        m.fixed_view_mut::<NX, NX>(0, 0)
-            .copy_from(&(-self.a * dt_s));
-        m.fixed_view_mut::<NX, NX>(0, NX).copy_from(&(qc * dt_s));
-        m.fixed_view_mut::<NX, NX>(NX, NX)
-            .copy_from(&(self.a.transpose() * dt_s));
-        let e = m.exp();
-        let phi = e.fixed_view::<NX, NX>(NX, NX).transpose();
-        let q = phi * e.fixed_view::<NX, NX>(0, NX);
-        (q + q.transpose()) * 0.5
+        self.model
+            .process_noise(dt_s, arw_rad_per_sqrt_s.powi(2), vrw_mps_per_sqrt_s.powi(2))
     }
 }
 
 /// `B u`: gyro increments enter the attitude error with a minus sign, accelerometer increments
-/// the velocity error.
+/// the velocity error (signs of [`sins_nav::error_model::input_matrix`]).
 #[inline]
 pub fn inject(u: &Forcing) -> Vec7 {
-    Vec7::from([-u[0], -u[1], -u[2], u[3], u[4], 0.0, 0.0])
+    let (g, a) = (GYRO_INPUT_SIGN, ACCEL_INPUT_SIGN);
+    Vec7::from([g * u[0], g * u[1], g * u[2], a * u[3], a * u[4], 0.0, 0.0])
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@
 
 use crate::config::CalibrationConfig;
 use crate::covariance::{Covariance, N_MEAS};
-use crate::dynamics::{nav_error_matrix, nav_process_noise};
+use crate::dynamics::{nav_error_matrix, nav_process_noise, nav_transition};
 use crate::moments::MomentSums;
 use crate::states::{NAV_STATES, POS, VEL, n_params};
 use faer::Mat;
@@ -226,7 +226,7 @@ impl Engine {
         let pos = st.position;
         let f_ned = self.sums.mean_specific_force_ned();
         let f = nav_error_matrix(pos.lat_rad, pos.height_m, &st.vel_ned_mps, &f_ned);
-        let phi_nn = (f * t).exp();
+        let phi_nn = nav_transition(&f, t);
         let phi_np = self.phi_np(&f);
         let q_nn = nav_process_noise(&f, t, self.qg, self.qa);
         self.cov

@@ -5,10 +5,12 @@
 //! The filter has five states `[φ_N, φ_E, φ_D, δv_N, δv_E]` and no sensor-bias states, so the
 //! unobservable combinations settle where classical gyrocompassing puts them: horizontal
 //! accelerometer biases are absorbed by level errors and the east gyro bias by a heading error,
-//! which is what makes them harmless afterwards.
+//! which is what makes them harmless afterwards. Its matrices ([`FineFilterModel`]) come from
+//! the reduced model [`crate::error_model::AlignmentModel`]; `sins-diag`'s linear replica of the
+//! alignment uses the same [`FineFilterModel`], so the two cannot drift apart.
 
-use crate::attitude::skew;
-use crate::earth::{EarthAt, Geodetic};
+use crate::earth::Geodetic;
+use crate::error_model::AlignmentModel;
 use crate::mechanization::{Increment, NavState, Strapdown, StrapdownConfig, VerticalChannel};
 use crate::{Mat3, Quat, Vec3};
 use nalgebra::{Matrix2, Matrix2x5, Matrix5, Matrix5x2, Rotation3, Vector2, Vector5};
@@ -140,11 +142,70 @@ struct FineFilter {
     nav: Strapdown,
     x: Vector5<f64>,
     p: Matrix5<f64>,
-    phi: Matrix5<f64>,
-    q: Matrix5<f64>,
-    r: Matrix2<f64>,
+    model: FineFilterModel,
     samples_per_update: usize,
     since_update: usize,
+}
+
+/// Floor of the gyro angle random walk the fine filter assumes (rad/sqrt(s)), so that `Q` stays
+/// positive definite for an ideal IMU.
+const MIN_GYRO_ARW_RAD_PER_SQRT_S: f64 = 1e-12;
+/// Floor of the accelerometer velocity random walk the fine filter assumes (m/s/sqrt(s)).
+const MIN_ACCEL_VRW_MPS_PER_SQRT_S: f64 = 1e-10;
+
+/// The fine alignment filter's matrices over one update interval, built from
+/// [`AlignmentModel`] (states `[φ_N, φ_E, φ_D, δv_N, δv_E]`, rad and m/s) and the settings of an
+/// [`AlignmentConfig`]. The filter and any replica of it take them from here.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FineFilterModel {
+    /// Transition `Φ` over one update interval.
+    pub phi: Matrix5<f64>,
+    /// Process noise `Q` over one update interval (rad², m²/s²).
+    pub q: Matrix5<f64>,
+    /// Zero-velocity measurement matrix `H` (picks `δv_N`, `δv_E`).
+    pub h: Matrix2x5<f64>,
+    /// Measurement noise `R` of the zero-velocity update (m²/s²).
+    pub r: Matrix2<f64>,
+    /// Covariance `P0` at the start of the fine stage (rad², m²/s²).
+    pub p0: Matrix5<f64>,
+}
+
+impl FineFilterModel {
+    /// The fine filter of `config` at `site` (update interval `config.update_interval_s`).
+    pub fn new(config: &AlignmentConfig, site: &Geodetic) -> Self {
+        let model = AlignmentModel::new(site.lat_rad, site.height_m);
+        let dt_s = config.update_interval_s;
+        let arw = config
+            .gyro_arw_rad_per_sqrt_s
+            .max(MIN_GYRO_ARW_RAD_PER_SQRT_S);
+        let vrw = config
+            .accel_vrw_mps_per_sqrt_s
+            .max(MIN_ACCEL_VRW_MPS_PER_SQRT_S);
+        Self {
+            phi: model.transition(dt_s),
+            q: AlignmentModel::process_noise(dt_s, arw.powi(2), vrw.powi(2)),
+            h: AlignmentModel::h(),
+            r: AlignmentModel::r(config.velocity_sigma_mps),
+            p0: AlignmentModel::initial_covariance(
+                config.initial_level_sigma_rad,
+                config.initial_heading_sigma_rad,
+            ),
+        }
+    }
+
+    /// One covariance step of the filter on `p`: predict `P ← Φ P Φᵀ + Q`, then the
+    /// zero-velocity update in Joseph form. Returns the gain `K` (5x2, rad per m/s and
+    /// dimensionless), or `None` with `p` left predicted when the innovation covariance is
+    /// singular. The covariance recursion does not depend on the measurements.
+    pub fn covariance_step(&self, p: &mut Matrix5<f64>) -> Option<Matrix5x2<f64>> {
+        *p = self.phi * *p * self.phi.transpose() + self.q;
+        let s = self.h * *p * self.h.transpose() + self.r;
+        let s_inv = s.try_inverse()?;
+        let k: Matrix5x2<f64> = *p * self.h.transpose() * s_inv;
+        let ikh = Matrix5::identity() - k * self.h;
+        *p = ikh * *p * ikh.transpose() + k * self.r * k.transpose();
+        Some(k)
+    }
 }
 
 impl SelfAlignment {
@@ -215,38 +276,16 @@ impl SelfAlignment {
         let dur = self.n_coarse as f64 * self.nav_config.sample_interval_s;
         let q = coarse_align(&(self.sum_dv / dur), &(self.sum_dtheta / dur))?;
         self.coarse = Some(q);
-        let earth = EarthAt::new(self.site.lat_rad, self.site.height_m);
-        let c = &self.config;
-        let dt = c.update_interval_s;
-        // Continuous error model at rest: φ̇ = -ω_ie×φ, δv̇ = f×φ - 2ω_ie×δv (horizontal part).
-        let w = skew(&earth.earth_rate_ned_radps);
-        let f = skew(&Vec3::new(0.0, 0.0, -earth.gravity_mps2));
-        let mut fm = Matrix5::<f64>::zeros();
-        fm.fixed_view_mut::<3, 3>(0, 0).copy_from(&(-w));
-        fm.fixed_view_mut::<2, 3>(3, 0)
-            .copy_from(&f.fixed_view::<2, 3>(0, 0));
-        fm.fixed_view_mut::<2, 2>(3, 3)
-            .copy_from(&(-2.0 * w).fixed_view::<2, 2>(0, 0));
-        let fdt = fm * dt;
-        let phi = Matrix5::identity() + fdt + fdt * fdt * 0.5;
-        let qa = c.gyro_arw_rad_per_sqrt_s.max(1e-12).powi(2) * dt;
-        let qv = c.accel_vrw_mps_per_sqrt_s.max(1e-10).powi(2) * dt;
-        let q_diag = Vector5::new(qa, qa, qa, qv, qv);
-        let (l, hd) = (
-            c.initial_level_sigma_rad.powi(2),
-            c.initial_heading_sigma_rad.powi(2),
-        );
-        let p0 = Vector5::new(l, l, hd, 1e-4, 1e-4);
+        let model = FineFilterModel::new(&self.config, &self.site);
+        let dt = self.config.update_interval_s;
         let per = self.nav_config.coning.samples_per_update();
         let spu = ((dt / self.nav_config.sample_interval_s).round() as usize).max(per) / per * per;
         let state = NavState::at_rest(self.t0_s + dur, q, self.site);
         self.fine = Some(FineFilter {
             nav: Strapdown::new(self.nav_config, state),
             x: Vector5::zeros(),
-            p: Matrix5::from_diagonal(&p0),
-            phi,
-            q: Matrix5::from_diagonal(&q_diag),
-            r: Matrix2::from_diagonal_element(c.velocity_sigma_mps.powi(2)),
+            p: model.p0,
+            model,
             samples_per_update: spu,
             since_update: 0,
         });
@@ -297,21 +336,14 @@ impl FineFilter {
             return;
         }
         self.since_update = 0;
-        // Predict.
-        self.x = self.phi * self.x;
-        self.p = self.phi * self.p * self.phi.transpose() + self.q;
-        // Zero-velocity update on the horizontal velocity.
+        // Predict, then update on the zero horizontal velocity.
+        self.x = self.model.phi * self.x;
+        let Some(k) = self.model.covariance_step(&mut self.p) else {
+            return;
+        };
         let v = self.nav.state().vel_ned_mps;
         let z = Vector2::new(v.x, v.y);
-        let mut hm = Matrix2x5::<f64>::zeros();
-        hm[(0, 3)] = 1.0;
-        hm[(1, 4)] = 1.0;
-        let s = hm * self.p * hm.transpose() + self.r;
-        let Some(s_inv) = s.try_inverse() else { return };
-        let k: Matrix5x2<f64> = self.p * hm.transpose() * s_inv;
-        self.x += k * (z - hm * self.x);
-        let ikh = Matrix5::identity() - k * hm;
-        self.p = ikh * self.p * ikh.transpose() + k * self.r * k.transpose();
+        self.x += k * (z - self.model.h * self.x);
         // Feed back and reset the error states.
         let phi = Vec3::new(self.x[0], self.x[1], self.x[2]);
         let dv = Vec3::new(self.x[3], self.x[4], 0.0);

@@ -1,6 +1,8 @@
 //! Navigation core of sinsbench: WGS-84 Earth, frames and attitude, strapdown mechanization on
-//! angular and velocity increments, vertical-channel damping, stationary self-alignment, and a
-//! linear static error model used as an independent check of the mechanization.
+//! angular and velocity increments, vertical-channel damping, stationary self-alignment, the
+//! linearised navigation error model that the filters and the diagnosis use
+//! ([`error_model`]), and a linear static error model written independently of both, used as a
+//! check of the mechanization and of [`error_model`].
 //!
 //! Frames follow Wang et al. 2021: `n` is north-east-down (NED), `b` is right-forward-up (RFU).
 //! Everything is SI: radians, metres, seconds, m/s, m/s^2.
@@ -8,6 +10,7 @@
 pub mod alignment;
 pub mod attitude;
 pub mod earth;
+pub mod error_model;
 pub mod linear;
 pub mod mechanization;
 pub mod reconstruct;

@@ -9,6 +9,9 @@
 //! ```
 //! with constant gyro drift ε^n and accelerometer bias ∇^n in NED. The system is propagated
 //! exactly with the matrix exponential of the augmented (state, input) system.
+//!
+//! This module is the test oracle of [`crate::error_model`] (the model the filters use) and must
+//! stay independent of it: do not rewrite it in terms of that module.
 
 use crate::earth::EarthAt;
 use crate::{Vec3, Wgs84};
@@ -48,11 +51,37 @@ pub fn propagate_static(
     step_s: f64,
 ) -> Vec<LinearErrorPoint> {
     let e = EarthAt::new(lat_rad, height_m);
+    let (rm, rn, cl) = (e.meridian_plus_h_m, e.transverse_plus_h_m, e.cos_lat);
+    let a = static_augmented_dynamics(lat_rad, height_m);
+    let phi_step = (a * step_s).exp();
+    let mut x = SVector::<f64, 12>::zeros();
+    x.fixed_rows_mut::<3>(0).copy_from(phi0_ned_rad);
+    x.fixed_rows_mut::<3>(7).copy_from(gyro_drift_ned_radps);
+    x[10] = accel_bias_ned_mps2.x;
+    x[11] = accel_bias_ned_mps2.y;
+    let n = (duration_s / step_s).round() as usize;
+    let mut out = Vec::with_capacity(n + 1);
+    for k in 0..=n {
+        out.push(LinearErrorPoint {
+            t_s: k as f64 * step_s,
+            phi_ned_rad: Vec3::new(x[0], x[1], x[2]),
+            vel_ne_mps: [x[3], x[4]],
+            pos_ne_m: [x[5] * rm, x[6] * rn * cl],
+        });
+        x = phi_step * x;
+    }
+    out
+}
+
+/// Augmented 12x12 dynamics of the static model at `lat_rad`, `height_m`: the 7 states
+/// `[φ_N, φ_E, φ_D (rad), δv_N, δv_E (m/s), δL, δλ (rad)]` followed by the 5 constant inputs
+/// `[ε_N, ε_E, ε_D (rad/s), ∇_N, ∇_E (m/s²)]` (1/s; the input columns are the input matrix).
+pub fn static_augmented_dynamics(lat_rad: f64, height_m: f64) -> SMatrix<f64, 12, 12> {
+    let e = EarthAt::new(lat_rad, height_m);
     let om = Wgs84::OMEGA_IE_RADPS;
     let (sl, cl) = (e.sin_lat, e.cos_lat);
     let (rm, rn) = (e.meridian_plus_h_m, e.transverse_plus_h_m);
     let g = e.gravity_mps2;
-    // Augmented 12x12: 7 states + 5 constant inputs [ε_N, ε_E, ε_D, ∇_N, ∇_E].
     let mut a = SMatrix::<f64, 12, 12>::zeros();
     // -ω_ie × φ with ω_ie = [Ω cL, 0, -Ω sL].
     a[(0, 1)] = -om * sl;
@@ -79,22 +108,5 @@ pub fn propagate_static(
     }
     a[(3, 10)] = 1.0;
     a[(4, 11)] = 1.0;
-    let phi_step = (a * step_s).exp();
-    let mut x = SVector::<f64, 12>::zeros();
-    x.fixed_rows_mut::<3>(0).copy_from(phi0_ned_rad);
-    x.fixed_rows_mut::<3>(7).copy_from(gyro_drift_ned_radps);
-    x[10] = accel_bias_ned_mps2.x;
-    x[11] = accel_bias_ned_mps2.y;
-    let n = (duration_s / step_s).round() as usize;
-    let mut out = Vec::with_capacity(n + 1);
-    for k in 0..=n {
-        out.push(LinearErrorPoint {
-            t_s: k as f64 * step_s,
-            phi_ned_rad: Vec3::new(x[0], x[1], x[2]),
-            vel_ne_mps: [x[3], x[4]],
-            pos_ne_m: [x[5] * rm, x[6] * rn * cl],
-        });
-        x = phi_step * x;
-    }
-    out
+    a
 }
