@@ -9,7 +9,7 @@ use sinsbench_fuzz::{guard, experiments_copy, render, write_at};
 fuzz_target!(|data: &[u8]| {
     guard(|| {
         let path = write_at(&experiments_copy().join("harness/fuzz_report.toml"), data);
-        match sins_harness::config::load_report_config(&path) {
+        match sins_config::load_report_config(&path) {
             Ok(c) => {
                 let _ = format!("{c:?}");
             }

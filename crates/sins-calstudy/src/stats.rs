@@ -1,6 +1,8 @@
 //! Small statistics: median, normalised estimation error squared with a full covariance, and
 //! χ² quantiles (for the NEES interval).
 
+use statrs::distribution::{ChiSquared, ContinuousCDF};
+
 /// Median of the finite values (mean of the middle two for an even count); NaN when none.
 pub fn median(values: &[f64]) -> f64 {
     let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
@@ -59,15 +61,18 @@ pub fn nees(error: &[f64], p: &[f64]) -> Option<f64> {
     Some(y.iter().map(|v| v * v).sum())
 }
 
-/// χ² cumulative distribution with `dof` degrees of freedom at `x` (the one incomplete-gamma
-/// implementation of the workspace lives in `sins_diag::stats`).
+/// χ² cumulative distribution with `dof` (> 0) degrees of freedom at `x`.
 pub fn chi2_cdf(x: f64, dof: f64) -> f64 {
-    1.0 - sins_diag::stats::chi2_sf(x, dof)
+    ChiSquared::new(dof).map_or(f64::NAN, |d| d.cdf(x))
 }
 
-/// The `p` quantile (0 < p < 1) of the χ² distribution with `dof` degrees of freedom.
+/// The `p` quantile (0 < p < 1) of the χ² distribution with `dof` (> 0) degrees of freedom
+/// (NaN outside those ranges).
 pub fn chi2_quantile(p: f64, dof: f64) -> f64 {
-    sins_diag::stats::chi2_isf(1.0 - p, dof)
+    match ChiSquared::new(dof) {
+        Ok(d) if (0.0..=1.0).contains(&p) => d.inverse_cdf(p),
+        _ => f64::NAN,
+    }
 }
 
 /// Two-sided `level` (e.g. 0.95) interval of the mean of `n` independent NEES values of a

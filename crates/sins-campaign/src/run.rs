@@ -6,7 +6,8 @@
 use crate::CampaignError;
 use crate::manifest::{BinaryId, FORMAT, Manifest, array_syntax, config_sha256};
 use crate::spec::{Campaign, parse_campaign};
-use crate::work::{Work, load_work, write_text};
+use crate::kinds::load_work;
+use crate::work::{Work, write_text};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;

@@ -3,7 +3,6 @@
 //! campaign's `summary.json` and `report.md`.
 
 use crate::CampaignError;
-use crate::spec::{Campaign, Kind};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 use std::path::Path;
@@ -31,16 +30,6 @@ pub trait Work: Sync {
         outcomes: Vec<serde_json::Value>,
         dir: &Path,
     ) -> Result<Vec<String>, CampaignError>;
-}
-
-/// The work of a campaign.
-pub fn load_work(campaign: &Campaign) -> Result<Box<dyn Work>, CampaignError> {
-    Ok(match &campaign.kind {
-        Kind::Blind { .. } => Box::new(crate::kinds::blind::BlindWork::new(campaign)?),
-        Kind::CalibrationMc { .. } => Box::new(crate::kinds::calmc::CalMcWork::new(campaign)?),
-        Kind::ReplicaUq { .. } => Box::new(crate::kinds::uq::UqWork::new(campaign)?),
-        Kind::Reports { .. } => Box::new(crate::kinds::reports::ReportsWork::new(campaign)?),
-    })
 }
 
 /// A job's error as a [`CampaignError`].

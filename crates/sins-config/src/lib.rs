@@ -15,6 +15,10 @@
 //! - **Extra effects** (`[[imu.effect]]` tables of an experiment, or a document of them alone): the
 //!   catalogue of `sins_imu::EffectKind`s in paper-style units; [`parse_effects_toml`] and
 //!   [`effects_to_toml`] (writing then reading is bit-exact in SI).
+//! - **Harness inputs**: the report configuration ([`load_report_config`]), the release-gate
+//!   thresholds ([`load_thresholds`], TOML), the paper's Table 5 ([`load_table5`], CSV) and a
+//!   report's `summary.json` ([`read_summary`], [`summary_to_json`]), read into (or written from)
+//!   the types of `sins-harness`; their errors are `sins_harness::HarnessError`s.
 //!
 //! Every error names the file, the key path (`motion.segment[3].duration_s`) and, for TOML, the
 //! line. The schema is documented in `experiments/README.md`.
@@ -30,6 +34,7 @@ mod error;
 mod exact;
 mod experiment;
 pub mod files;
+mod harness;
 mod motion;
 mod noise_table;
 mod params;
@@ -44,6 +49,9 @@ pub use effects::{effects_to_toml, parse_effects_toml};
 pub use error::ConfigError;
 pub use experiment::{EXPERIMENT_SCHEMA, Experiment, load_experiment};
 pub use files::write_file_atomically;
+pub use harness::{
+    load_report_config, load_table5, load_thresholds, read_summary, summary_to_json,
+};
 pub use motion::motion_duration_s;
 pub use noise_table::{NOISE_KIND, NoiseTable, load_noise, noise_to_toml, write_noise};
 pub use params::{

@@ -4,9 +4,24 @@ use sins_imu::ImuSample;
 use sins_nav::Vec3;
 
 use crate::error::{DataError, RowRef};
-use crate::pq_read::ReadPlan;
-use crate::schema::{ReferenceRow, SampleBatch};
-use crate::validate::{TimeCheck, first_non_finite, non_finite};
+use crate::schema::{ColumnSet, ReferenceRow, SampleBatch};
+use crate::validate::{ColumnLimit, TimeCheck, first_non_finite, non_finite};
+use polars_parquet::read::FileMetadata;
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+
+/// Everything the decoder thread needs, immutable.
+pub(crate) struct ReadPlan {
+    pub path: PathBuf,
+    pub metadata: FileMetadata,
+    pub columns: ColumnSet,
+    pub float_names: Vec<&'static str>,
+    pub lookup: HashMap<String, u16>,
+    pub rate_hz: f64,
+    /// Plausibility range of each Float64 column (same order as `float_names`).
+    pub limits: Vec<Option<ColumnLimit>>,
+}
 
 /// Decoded columns of one row group (buffers reused across row groups).
 pub(crate) struct RowGroupColumns {

@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 use std::fs::File;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, SyncSender, channel, sync_channel};
 use std::thread::JoinHandle;
@@ -12,17 +12,17 @@ use std::thread::JoinHandle;
 use crate::error::DataError;
 use crate::layout::resolve_layout;
 use crate::meta::DatasetMeta;
-use crate::pq_batch::{RowGroupColumns, build_batch};
+use crate::pq_batch::{ReadPlan, RowGroupColumns, build_batch};
 use crate::pq_decode::{
     Scratch, chunk_of, collect_segment_labels, decode_f64_into, decode_segment, no_panic,
     read_chunk,
 };
-use crate::schema::{ColumnSet, DatasetFormat, DatasetInfo, SEGMENT_COLUMN, SampleBatch};
+use crate::schema::{DatasetFormat, DatasetInfo, SEGMENT_COLUMN, SampleBatch};
 use crate::validate::{
-    ColumnLimit, TimeCheck, check_meta, column_limits, first_outside, implausible,
+    TimeCheck, check_meta, column_limits, first_outside, implausible,
 };
 use polars_arrow::datatypes::ArrowDataType;
-use polars_parquet::read::{FileMetadata, infer_schema, read_metadata};
+use polars_parquet::read::{infer_schema, read_metadata};
 
 /// Largest batch returned by readers (rows). Parquet files written by this crate with the
 /// default options have smaller row groups, so a batch is exactly one row group; larger row
@@ -30,18 +30,6 @@ use polars_parquet::read::{FileMetadata, infer_schema, read_metadata};
 pub const MAX_BATCH_ROWS: usize = 1 << 17;
 
 type BatchResult = Result<SampleBatch, DataError>;
-
-/// Everything the decoder thread needs, immutable.
-pub(crate) struct ReadPlan {
-    pub path: PathBuf,
-    pub metadata: FileMetadata,
-    pub columns: ColumnSet,
-    pub float_names: Vec<&'static str>,
-    pub lookup: HashMap<String, u16>,
-    pub rate_hz: f64,
-    /// Plausibility range of each Float64 column (same order as `float_names`).
-    pub limits: Vec<Option<ColumnLimit>>,
-}
 
 /// An open Parquet dataset.
 pub(crate) struct ParquetSource {

@@ -2,7 +2,8 @@
 //! the gyro quantizer (same seed, so every other noise stream is identical), against the twin's
 //! quantization-only spread. Run: `cargo run --release -p sins-diag --example qerr -- [seed]`
 
-use sins_diag::diagnose::{diagnose, track_at};
+use sins_diag::diagnose::diagnose;
+use sins_diag::runs::track_at;
 use sins_diag::input::{DiagnoseConfig, DiagnosisInput, RunData};
 use sins_diag::noise::NoiseSpec;
 use sins_diag::replay::{ReplaySetup, replay_run};

@@ -10,7 +10,7 @@ use crate::error::DiagError;
 use crate::events::{
     EventScan, EventSignal, ScanRun, TimeLocalEvent, chi2_with, scan_with_signals,
 };
-use crate::input::{DiagnoseConfig, DiagnosisInput, RunData};
+use crate::input::{DiagnoseConfig, DiagnosisInput};
 use crate::localise::{GapSeries, localise};
 use crate::noise::NoiseSpec;
 use crate::pass::Grid;
@@ -21,6 +21,7 @@ use crate::rank::{
 };
 use crate::refine::{RefineStart, Refinement, refine};
 use crate::replay::temperature_series;
+use crate::runs::{output_columns, par_runs, track_at};
 use crate::report::Verdict;
 use crate::report::{Diagnosis, RunSeries};
 use crate::sensitivity::{ColumnId, RunSensitivity, SensitivitySetup, run_sensitivity};
@@ -30,71 +31,6 @@ use crate::walk::fit_walk;
 use nalgebra::{DMatrix, DVector};
 use sins_imu::ImuErrorParams;
 use sins_imu::{EffectKind, Linearity};
-use sins_replay::ErrorPoint;
-
-/// North/east of a track at `t_s`, linear between points (clamped at the ends).
-pub fn track_at(points: &[ErrorPoint], t_s: f64) -> [f64; 2] {
-    let k = points.partition_point(|p| p.t_s < t_s);
-    match (k.checked_sub(1).and_then(|i| points.get(i)), points.get(k)) {
-        (Some(a), Some(b)) if b.t_s > a.t_s => {
-            let w = (t_s - a.t_s) / (b.t_s - a.t_s);
-            [
-                a.north_m + w * (b.north_m - a.north_m),
-                a.east_m + w * (b.east_m - a.east_m),
-            ]
-        }
-        (_, Some(b)) => [b.north_m, b.east_m],
-        (Some(a), None) => [a.north_m, a.east_m],
-        (None, None) => [0.0, 0.0],
-    }
-}
-
-/// `f` on every run, on `threads` workers that each take the longest run not yet started
-/// (a 4 h calibration run beside two 15 h runs then costs one 15 h run plus 4 h, not two 15 h
-/// runs); results in run order, identical for any thread count (each run is processed alone).
-pub fn par_runs<T: Send>(
-    runs: &mut [RunData],
-    threads: usize,
-    f: impl Fn(&mut RunData) -> Result<T, DiagError> + Sync,
-) -> Result<Vec<T>, DiagError> {
-    let n = runs.len();
-    // Longest first (by the real track's span), ties in run order.
-    let span = |r: &RunData| match (r.track.first(), r.track.last()) {
-        (Some(a), Some(b)) => b.t_s - a.t_s,
-        _ => 0.0,
-    };
-    let mut queue: Vec<(usize, &mut RunData)> = runs.iter_mut().enumerate().collect();
-    queue.sort_by(|a, b| span(b.1).total_cmp(&span(a.1)).then(a.0.cmp(&b.0)));
-    queue.reverse(); // popped from the back
-    let queue = std::sync::Mutex::new(queue);
-    let results = std::sync::Mutex::new((0..n).map(|_| None).collect::<Vec<Option<_>>>());
-    let panicked = std::thread::scope(|s| {
-        let workers: Vec<_> = (0..threads.clamp(1, n.max(1)))
-            .map(|_| {
-                s.spawn(|| {
-                    loop {
-                        let next = queue.lock().ok().and_then(|mut q| q.pop());
-                        let Some((i, run)) = next else { break };
-                        let out = f(run);
-                        if let Ok(mut r) = results.lock() {
-                            r[i] = Some(out);
-                        }
-                    }
-                })
-            })
-            .collect();
-        workers.into_iter().any(|w| w.join().is_err())
-    });
-    if panicked {
-        return Err(DiagError::Numerical("a worker thread panicked".into()));
-    }
-    results
-        .into_inner()
-        .map_err(|_| DiagError::Numerical("a worker thread panicked".into()))?
-        .into_iter()
-        .map(|r| r.unwrap_or_else(|| Err(DiagError::Numerical("run not processed".into()))))
-        .collect()
-}
 
 /// The settings of the base sensitivity pass.
 fn base_setup<'a>(
@@ -799,19 +735,6 @@ fn envelope(s: &RunSensitivity, pu: Option<&ParamUncertainty>, floor: f64) -> Ve
                 }
             }
             [v[0].max(0.0).sqrt(), v[1].max(0.0).sqrt()]
-        })
-        .collect()
-}
-
-/// A deterministic candidate's columns on a run's output grid, per candidate unit.
-pub(crate) fn output_columns(s: &RunSensitivity, l: &Layout) -> OutputColumns {
-    let si = l.kind.unit().si;
-    (0..l.n)
-        .map(|c| match s.column(ColumnId::Effect(l.kind, c)) {
-            Some(i) => (0..s.times.times_s.len())
-                .map(|k| [si * s.north_m[i][k], si * s.east_m[i][k]])
-                .collect(),
-            None => vec![[0.0; 2]; s.times.times_s.len()],
         })
         .collect()
 }

@@ -77,6 +77,7 @@ pub mod rank;
 pub mod refine;
 pub mod replay;
 pub mod report;
+pub mod runs;
 pub mod sensitivity;
 pub mod source;
 pub mod stats;

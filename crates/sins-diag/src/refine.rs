@@ -14,7 +14,7 @@
 
 use crate::absorb::{Absorption, CalibrationRun};
 use crate::candidates::{RegressionFit, forward_select, select};
-use crate::diagnose::{output_columns, par_runs, track_at};
+use crate::runs::{output_columns, par_runs, track_at};
 use crate::error::DiagError;
 use crate::input::{DiagnoseConfig, DiagnosisInput};
 use crate::problem::{Problem, RunFitData};

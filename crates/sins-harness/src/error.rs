@@ -5,7 +5,8 @@ use std::path::PathBuf;
 /// What can go wrong in the harness; every variant names the file or item at fault.
 #[derive(Debug, thiserror::Error)]
 pub enum HarnessError {
-    /// A file could not be read or written.
+    /// A file could not be read or written (the readers of the harness's files in `sins-config`
+    /// report it).
     #[error("{path}: {source}")]
     Io {
         /// The file.
@@ -21,9 +22,6 @@ pub enum HarnessError {
         /// What is wrong, naming the key or row.
         message: String,
     },
-    /// An experiment or parameter file failed to load.
-    #[error(transparent)]
-    Config(#[from] sins_config::ConfigError),
     /// The simulator refused a scenario.
     #[error("simulation of '{run}': {source}")]
     Simulation {

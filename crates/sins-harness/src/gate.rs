@@ -1,5 +1,6 @@
-//! The release gate: thresholds (TOML) on a report's `summary.json`, one readable line per
-//! failure, and JUnit XML for CI systems.
+//! The release gate: thresholds on a report's `summary.json`, one readable line per failure,
+//! and JUnit XML for CI systems. The thresholds file (TOML) is read by
+//! `sins_config::load_thresholds`:
 //!
 //! ```toml
 //! schema = 1
@@ -65,30 +66,9 @@ pub struct Check {
 }
 
 impl Thresholds {
-    /// Read a thresholds file; errors name the file, line and key.
-    pub fn load(path: &Path) -> Result<Self, HarnessError> {
-        let text = std::fs::read_to_string(path).map_err(|source| HarnessError::Io {
-            path: path.to_owned(),
-            source,
-        })?;
-        let bad = |message: String| HarnessError::Malformed {
-            path: path.to_owned(),
-            message,
-        };
-        let t: Thresholds =
-            toml::from_str(&text).map_err(|e| bad(e.to_string().trim().to_string()))?;
-        if t.schema != THRESHOLDS_SCHEMA {
-            return Err(bad(format!(
-                "key 'schema' is {}, this build reads {THRESHOLDS_SCHEMA}",
-                t.schema
-            )));
-        }
-        t.validate().map_err(bad)?;
-        Ok(t)
-    }
-
-    /// Every limit is a usable number and there is at least one; the message names the key.
-    fn validate(&self) -> Result<(), String> {
+    /// Every limit is a usable number (nmi > 0, finite %) and there is at least one; the
+    /// message names the key (`default.max_horizontal_nmi."42-state"`), the caller the file.
+    pub fn validate(&self) -> Result<(), String> {
         if self.is_empty() {
             return Err(
                 "defines no checks: a gate that checks nothing cannot pass; give \

@@ -8,8 +8,13 @@
 //! - [`segments`]: per-segment maxima over contiguous stretches of a label;
 //! - [`summary`]: the machine-readable results (`summary.json`) in the layout of the paper's
 //!   Table 5;
-//! - [`config`]: the report configuration (TOML);
+//! - [`reference`]: the paper's Table 5 rows;
+//! - [`config`]: the report configuration;
 //! - [`gate`]: thresholds, their evaluation and JUnit XML for CI systems.
+//!
+//! Nothing here reads or writes files or parses TOML / JSON: `sins-config` loads the report
+//! configuration, the thresholds and Table 5 into these types and writes and reads
+//! `summary.json`.
 //!
 //! Units: SI inside (m, s, rad); nautical miles (1852 m) and hours only in summaries.
 

@@ -68,6 +68,7 @@ pub fn stretches(points: &[ErrorPoint], labels: &[String]) -> Vec<SegmentStretch
             sum_sq = 0.0;
             n = 0;
         }
+        #[allow(clippy::expect_used, reason = "a stretch was just opened")]
         let s = out.last_mut().expect("a stretch was just opened");
         s.end_s = p.t_s;
         if h > s.max_horizontal_m {

@@ -1,16 +1,15 @@
 //! Machine-readable results of a report (`summary.json`): per experiment and parameter set the
 //! maximum horizontal error (when, in which segment), RMS and final error, per-segment maxima,
 //! and the improvement of the compensated set over the baseline, in the layout of the paper's
-//! Table 5.
+//! Table 5. The JSON file is written and read by `sins_config::summary_to_json` and
+//! `sins_config::read_summary`.
 
-use crate::HarnessError;
 use crate::pipeline::{RunOutcome, Track};
 use crate::reference::PaperRow;
 use crate::segments::{SegmentStretch, label_of};
 use serde::{Deserialize, Serialize};
 use sins_nav::NMI_M;
 use std::collections::BTreeMap;
-use std::path::Path;
 
 /// Version of the `summary.json` layout.
 pub const SUMMARY_SCHEMA: u32 = 1;
@@ -148,48 +147,5 @@ impl ExperimentSummary {
             improvement_percent,
             paper,
         }
-    }
-}
-
-impl Summary {
-    /// Serialise as pretty JSON.
-    pub fn to_json(&self) -> String {
-        // Serialising plain structs of numbers and strings cannot fail.
-        serde_json::to_string_pretty(self).unwrap_or_default()
-    }
-
-    /// Read a `summary.json`; errors name the file, line and field.
-    pub fn from_json_file(path: &Path) -> Result<Self, HarnessError> {
-        let text = std::fs::read_to_string(path).map_err(|source| HarnessError::Io {
-            path: path.to_owned(),
-            source,
-        })?;
-        let s: Summary = serde_json::from_str(&text).map_err(|e| HarnessError::Malformed {
-            path: path.to_owned(),
-            message: format!("not a sinsbench summary: {e}"),
-        })?;
-        if s.schema != SUMMARY_SCHEMA {
-            return Err(HarnessError::Malformed {
-                path: path.to_owned(),
-                message: format!(
-                    "key 'schema' is {}, this build reads {SUMMARY_SCHEMA}",
-                    s.schema
-                ),
-            });
-        }
-        for e in &s.experiments {
-            for (set, r) in &e.results {
-                if !r.max_horizontal_nmi.is_finite() || r.max_horizontal_nmi < 0.0 {
-                    return Err(HarnessError::Malformed {
-                        path: path.to_owned(),
-                        message: format!(
-                            "experiments['{}'].results['{set}'].max_horizontal_nmi is {} (must be a finite number >= 0)",
-                            e.name, r.max_horizontal_nmi
-                        ),
-                    });
-                }
-            }
-        }
-        Ok(s)
     }
 }

@@ -1,6 +1,7 @@
-//! The release gate on summaries: a pass, a failure with a readable reason, malformed input.
+//! The release gate on summaries: a pass, a failure with a readable reason, limits that check
+//! nothing. Reading thresholds files and `summary.json` is tested in `sins-config`.
 
-use sins_harness::gate::{Thresholds, junit_xml};
+use sins_harness::gate::{Limits, THRESHOLDS_SCHEMA, Thresholds, junit_xml};
 use sins_harness::segments::SegmentStretch;
 use sins_harness::summary::{
     Comparison, ExperimentSummary, SUMMARY_SCHEMA, SetResult, Summary, improvement_percent,
@@ -55,23 +56,25 @@ fn summary(with_nmi: f64, without_nmi: f64) -> Summary {
     }
 }
 
-fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
+/// The limits of `schema = 1`, `[default] max_horizontal_nmi = { "30-state" = 4.0,
+/// "42-state" = 2.5 }`, `min_improvement_percent = 20.0`.
+fn thresholds() -> Thresholds {
+    Thresholds {
+        schema: THRESHOLDS_SCHEMA,
+        default: Limits {
+            max_horizontal_nmi: BTreeMap::from([
+                ("30-state".to_string(), 4.0),
+                ("42-state".to_string(), 2.5),
+            ]),
+            min_improvement_percent: Some(20.0),
+        },
+        experiment: BTreeMap::new(),
+    }
 }
-
-const THRESHOLDS: &str = r#"
-schema = 1
-[default]
-max_horizontal_nmi = { "30-state" = 4.0, "42-state" = 2.5 }
-min_improvement_percent = 20.0
-"#;
 
 #[test]
 fn passes_within_thresholds() {
-    let dir = tempfile::tempdir().unwrap();
-    let t = Thresholds::load(&write(dir.path(), "t.toml", THRESHOLDS)).unwrap();
+    let t = thresholds();
     let s = summary(2.11, 3.38);
     let checks = t.evaluate(&s);
     assert_eq!(checks.len(), 3);
@@ -82,8 +85,7 @@ fn passes_within_thresholds() {
 
 #[test]
 fn fails_with_a_readable_reason_and_junit() {
-    let dir = tempfile::tempdir().unwrap();
-    let t = Thresholds::load(&write(dir.path(), "t.toml", THRESHOLDS)).unwrap();
+    let t = thresholds();
     let checks = t.evaluate(&summary(2.65, 3.0));
     let failed: Vec<_> = checks.iter().filter(|c| !c.passed).collect();
     assert_eq!(failed.len(), 2, "{checks:?}");
@@ -102,11 +104,13 @@ fn fails_with_a_readable_reason_and_junit() {
 
 #[test]
 fn per_experiment_override_and_missing_experiment() {
-    let dir = tempfile::tempdir().unwrap();
-    let text = format!(
-        "{THRESHOLDS}\n[experiment.nav1]\nmax_horizontal_nmi = {{ \"42-state\" = 3.0 }}\n[experiment.nav9]\n"
-    );
-    let t = Thresholds::load(&write(dir.path(), "t.toml", &text)).unwrap();
+    let mut t = thresholds();
+    let nav1 = Limits {
+        max_horizontal_nmi: BTreeMap::from([("42-state".to_string(), 3.0)]),
+        min_improvement_percent: None,
+    };
+    t.experiment.insert("nav1".into(), nav1);
+    t.experiment.insert("nav9".into(), Limits::default());
     let checks = t.evaluate(&summary(2.65, 4.0));
     let bad: Vec<_> = checks.iter().filter(|c| !c.passed).collect();
     assert_eq!(bad.len(), 1, "{checks:?}");
@@ -114,64 +118,38 @@ fn per_experiment_override_and_missing_experiment() {
 }
 
 #[test]
-fn malformed_summary_and_thresholds_name_the_problem() {
-    let dir = tempfile::tempdir().unwrap();
-    let p = write(
-        dir.path(),
-        "summary.json",
-        "{\"schema\": 1, \"name\": \"x\"",
-    );
-    let e = Summary::from_json_file(&p).unwrap_err().to_string();
-    assert!(
-        e.contains("summary.json") && e.contains("not a sinsbench summary"),
-        "{e}"
-    );
-    let mut s = summary(1.0, 2.0);
-    s.experiments[0]
-        .results
-        .get_mut("42-state")
-        .unwrap()
-        .max_horizontal_nmi = -1.0;
-    let p = write(dir.path(), "neg.json", &s.to_json());
-    let e = Summary::from_json_file(&p).unwrap_err().to_string();
-    assert!(
-        e.contains("experiments['nav1'].results['42-state'].max_horizontal_nmi"),
-        "{e}"
-    );
-    let p = write(
-        dir.path(),
-        "t.toml",
-        "schema = 1\n[default]\nmax_horizontal = 3\n",
-    );
-    let e = Thresholds::load(&p).unwrap_err().to_string();
-    assert!(e.contains("t.toml") && e.contains("max_horizontal"), "{e}");
-    let p = write(
-        dir.path(),
-        "t2.toml",
-        "schema = 1\n[default]\nmax_horizontal_nmi = { \"42-state\" = -2 }\n",
-    );
-    let e = Thresholds::load(&p).unwrap_err().to_string();
+fn unusable_limits_name_the_key() {
+    let mut t = thresholds();
+    t.default.max_horizontal_nmi.insert("42-state".into(), -2.0);
+    let e = t.validate().unwrap_err();
     assert!(e.contains("default.max_horizontal_nmi.\"42-state\""), "{e}");
+    let mut t = thresholds();
+    t.experiment.insert(
+        "nav1".into(),
+        Limits {
+            max_horizontal_nmi: BTreeMap::new(),
+            min_improvement_percent: Some(f64::NAN),
+        },
+    );
+    let e = t.validate().unwrap_err();
+    assert!(e.contains("experiment.nav1.min_improvement_percent"), "{e}");
+    assert_eq!(thresholds().validate(), Ok(()));
 }
 
 #[test]
 fn thresholds_that_check_nothing_are_refused() {
-    let dir = tempfile::tempdir().unwrap();
-    for (name, text) in [
-        ("bare.toml", "schema = 1\n"),
-        ("tables.toml", "schema = 1\n[default]\n[experiment.nav1]\n"),
-    ] {
-        let e = Thresholds::load(&write(dir.path(), name, text))
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains(name) && e.contains("no checks"), "{e}");
-    }
+    let mut t = Thresholds {
+        schema: THRESHOLDS_SCHEMA,
+        ..Thresholds::default()
+    };
+    assert!(t.validate().unwrap_err().contains("no checks"));
+    t.experiment.insert("nav1".into(), Limits::default());
+    assert!(t.validate().unwrap_err().contains("no checks"));
 }
 
 #[test]
 fn a_summary_without_experiments_checks_nothing_and_is_refused() {
-    let dir = tempfile::tempdir().unwrap();
-    let t = Thresholds::load(&write(dir.path(), "t.toml", THRESHOLDS)).unwrap();
+    let t = thresholds();
     let mut s = summary(2.0, 3.0);
     assert_eq!(t.check(&s, Path::new("full.json")).unwrap().len(), 3);
     s.experiments.clear();

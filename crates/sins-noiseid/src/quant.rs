@@ -17,18 +17,7 @@
 //! The quantum itself is read from the data: quantised increments are whole multiples of `q`
 //! ([`LatticeDetector`]).
 
-use sins_diag::stats::gamma_q;
-
-/// Standard normal cumulative distribution.
-fn normal_cdf(x: f64) -> f64 {
-    // erfc(y) = Q(1/2, y²).
-    let y = x / std::f64::consts::SQRT_2;
-    if y >= 0.0 {
-        1.0 - 0.5 * gamma_q(0.5, y * y)
-    } else {
-        0.5 * gamma_q(0.5, y * y)
-    }
-}
+use sins_diag::stats::normal_cdf;
 
 fn normal_pdf(x: f64) -> f64 {
     (-0.5 * x * x).exp() / (2.0 * std::f64::consts::PI).sqrt()

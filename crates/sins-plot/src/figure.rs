@@ -3,7 +3,7 @@
 use crate::canvas::RgbImage;
 use crate::color::Rgb;
 use crate::error::PlotError;
-use crate::layout::{Metrics, PanelGeometry, layout};
+use crate::layout::{Frame, Metrics, PanelGeometry, layout};
 use crate::panel::Panel;
 use crate::render::draw_panel;
 use crate::series::Span;
@@ -149,7 +149,15 @@ impl Figure {
             crate::validate::check_panel(i, p, &self.spans)?;
         }
         let m = Metrics::new(self.scale);
-        let geometries = layout(self, &m)?;
+        let frame = Frame {
+            width_px: self.width_px,
+            panel_height_px: self.panel_height_px,
+            total_height_px: self.total_height_px(),
+            titled: !self.title.is_empty(),
+            share_x: self.share_x,
+            x_range: self.x_range,
+        };
+        let geometries = layout(&frame, &self.panels, &m)?;
         let mut image = RgbImage::new(self.width_px, self.total_height_px(), Rgb::WHITE);
         if !self.title.is_empty() {
             let style = TextStyle::new(Rgb::BLACK, 2 * m.scale, HAlign::Center, VAlign::Top);

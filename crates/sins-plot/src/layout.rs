@@ -3,7 +3,6 @@
 
 use crate::canvas::Rect;
 use crate::error::PlotError;
-use crate::figure::Figure;
 use crate::panel::Panel;
 use crate::text::{text_height_px, text_width_px};
 use crate::ticks::{Ticks, nice_ticks};
@@ -183,14 +182,27 @@ fn panel_x_range(i: usize, p: &Panel) -> Result<(f64, f64), PlotError> {
     }
 }
 
-/// Lays out every panel of `fig` (validated size) and picks its axes.
-pub(crate) fn layout(fig: &Figure, m: &Metrics) -> Result<Vec<PanelGeometry>, PlotError> {
-    let n = fig.panels.len();
-    let top0 = m.figure_title_h(!fig.title.is_empty());
+/// What the layout needs of a figure besides its panels (pixels).
+pub(crate) struct Frame {
+    pub width_px: u32,
+    pub panel_height_px: u32,
+    pub total_height_px: u32,
+    pub titled: bool,
+    pub share_x: bool,
+    pub x_range: Option<(f64, f64)>,
+}
+
+/// Lays out every panel of a figure (validated size) and picks its axes.
+pub(crate) fn layout(
+    fig: &Frame,
+    panels: &[Panel],
+    m: &Metrics,
+) -> Result<Vec<PanelGeometry>, PlotError> {
+    let n = panels.len();
+    let top0 = m.figure_title_h(fig.titled);
     let slot_h = fig.panel_height_px as i32;
     let plot_h = slot_h - m.top_margin() - m.bottom_margin();
-    let x_ranges: Vec<(f64, f64)> = fig
-        .panels
+    let x_ranges: Vec<(f64, f64)> = panels
         .iter()
         .enumerate()
         .map(|(i, p)| panel_x_range(i, p))
@@ -200,7 +212,7 @@ pub(crate) fn layout(fig: &Figure, m: &Metrics) -> Result<Vec<PanelGeometry>, Pl
         (true, Some(r)) => {
             if nice_ticks(r.0, r.1, 1, false).is_none() {
                 let why = "the figure's shared x range must be finite and increasing";
-                return Err(range_error(0, &fig.panels[0], "x", r, why));
+                return Err(range_error(0, &panels[0], "x", r, why));
             }
             Some(r)
         }
@@ -211,7 +223,7 @@ pub(crate) fn layout(fig: &Figure, m: &Metrics) -> Result<Vec<PanelGeometry>, Pl
     };
     // y axes first: their label widths decide the common left margin.
     let mut y_axes = Vec::with_capacity(n);
-    for (i, p) in fig.panels.iter().enumerate() {
+    for (i, p) in panels.iter().enumerate() {
         let xr = shared.unwrap_or(x_ranges[i]);
         let max_intervals = (plot_h / (3 * m.text_h + m.u(6))).max(2) as usize;
         let ticks = match p.y_range {
@@ -236,12 +248,12 @@ pub(crate) fn layout(fig: &Figure, m: &Metrics) -> Result<Vec<PanelGeometry>, Pl
     if plot_w < 20 || plot_h < 20 {
         return Err(PlotError::InvalidSize {
             width_px: fig.width_px,
-            height_px: fig.total_height_px(),
+            height_px: fig.total_height_px,
             reason: "too small for the axes and labels",
         });
     }
     let mut out = Vec::with_capacity(n);
-    for (i, (p, y_ticks)) in fig.panels.iter().zip(y_axes).enumerate() {
+    for (i, (p, y_ticks)) in panels.iter().zip(y_axes).enumerate() {
         let xr = shared.unwrap_or(x_ranges[i]);
         let x_ticks = x_axis_ticks(xr, plot_w, m)
             .ok_or_else(|| range_error(i, p, "x", xr, "range cannot be represented"))?;

@@ -213,6 +213,10 @@ impl Replay {
         while let Some(x) = r.recon.pop() {
             r.nav
                 .advance_interval(&x.phi_rad, &x.dv_body_mps, h * x.intervals as f64);
+            #[allow(
+                clippy::expect_used,
+                reason = "a segment index is queued with every sample"
+            )]
             let segment = r
                 .segments
                 .drain(..x.intervals)

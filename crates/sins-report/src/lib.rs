@@ -2,8 +2,8 @@
 //! ([`run_report`]: calibrate or load the parameter sets, simulate or read the navigation data,
 //! replay each experiment under every set) and write `reports/<name>/` atomically
 //! ([`write_report`]): `report.md` (the paper's Table 5 layout beside ours, per-segment maxima),
-//! `summary.json`, one Parquet error track, PNG plots and one Rerun `.rrd` per experiment, and
-//! the calibrated parameter sets.
+//! `summary.json` (`sins_config::summary_to_json`), one Parquet error track, PNG plots and one
+//! Rerun `.rrd` per experiment, and the calibrated parameter sets.
 //!
 //! This crate and `sins-data` / `sins-viz` are the only ones here that link polars or rerun.
 

@@ -7,7 +7,7 @@
 use crate::ReportError;
 use crate::run::ReportRun;
 use crate::{markdown, plots, rrd, tracks};
-use sins_config::{ParamSet, write_params};
+use sins_config::{ParamSet, summary_to_json, write_params};
 use std::path::{Path, PathBuf};
 
 /// What a written report contains.
@@ -184,7 +184,7 @@ fn fill(dir: &Path, run: &ReportRun) -> Result<Vec<String>, ReportError> {
         )?;
         files.push(p);
     }
-    write_text(&dir.join("summary.json"), &run.summary.to_json())?;
+    write_text(&dir.join("summary.json"), &summary_to_json(&run.summary))?;
     files.push("summary.json".into());
     write_text(&dir.join("report.md"), &markdown::render_markdown(run))?;
     files.push("report.md".into());

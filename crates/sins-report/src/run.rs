@@ -4,12 +4,12 @@
 
 use crate::ReportError;
 use crate::dataset::replay_dataset;
-use sins_config::{load_experiment, load_params, model_name};
+use sins_config::{load_experiment, load_params, load_table5, model_name};
 use sins_harness::config::{NavigationSource, ParamOrigin, ReportConfig};
 use sins_harness::pipeline::{
     NamedParams, RunOutcome, scenario_samples, simulate_and_calibrate, simulate_and_replay,
 };
-use sins_harness::reference::{PaperRow, load_table5};
+use sins_harness::reference::PaperRow;
 use sins_harness::summary::{ExperimentSummary, ParamSetInfo, SUMMARY_SCHEMA, Summary};
 use sins_imu::{ImuErrorParams, ParamModel};
 use std::time::Instant;

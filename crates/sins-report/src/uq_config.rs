@@ -4,9 +4,8 @@
 
 use crate::ReportError;
 use serde::Deserialize;
-use sins_config::{coefficient_table, load_experiment};
-use sins_harness::config::{NavigationSource, load_report_config};
-use sins_harness::reference::load_table5;
+use sins_config::{coefficient_table, load_experiment, load_report_config, load_table5};
+use sins_harness::config::NavigationSource;
 use sins_imu::{EffectKind, ImuErrorParams, ParamModel};
 use sins_uq::apply::ReplicaBase;
 use sins_uq::assumptions::{

@@ -265,7 +265,7 @@ pub struct AssumptionSet {
     /// Master seed.
     pub seed: u64,
     /// Cells the gap diagnosis chooses on (the rest are withheld).
-    pub choose_on: Vec<crate::summary::CellId>,
+    pub choose_on: Vec<crate::cell::CellId>,
 }
 
 impl AssumptionSet {

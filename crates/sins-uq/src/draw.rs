@@ -156,3 +156,45 @@ pub fn element_distribution(set: &AssumptionSet, slot: Slot, knob: Knob) -> Opti
     }
     Some(&set.assumptions[i].distribution)
 }
+
+/// The implicit group of the sensor-noise realisation (the seeds of every simulated run).
+pub const NOISE_GROUP: &str = "noise realisation";
+
+/// The groups of the design, in file order, then [`NOISE_GROUP`]: every group with at least
+/// one varying assumption.
+pub fn groups(set: &AssumptionSet) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for a in &set.assumptions {
+        if a.distribution.varies() && !out.contains(&a.group) {
+            out.push(a.group.clone());
+        }
+    }
+    out.push(NOISE_GROUP.to_string());
+    out
+}
+
+/// Row `index` of `A_B^g` for group number `group` of [`groups`]: main sample `index` with the
+/// group's inputs (values, per-element draws or noise seeds) from resample `index`.
+pub fn mixed_draw(set: &AssumptionSet, group: usize, index: usize) -> Draw {
+    let mut a = draw(set, Slot::Main, index);
+    let b = draw(set, Slot::Resample, index);
+    let names = groups(set);
+    let Some(name) = names.get(group) else {
+        return a;
+    };
+    if name == NOISE_GROUP {
+        a.cal_seed = b.cal_seed;
+        a.cal30_seed = b.cal30_seed;
+        a.nav_seeds = b.nav_seeds;
+        return a;
+    }
+    for (i, asm) in set.assumptions.iter().enumerate() {
+        if &asm.group == name {
+            a.values[i] = b.values[i];
+            if asm.knob.is_per_element() {
+                a.element_seed = b.element_seed;
+            }
+        }
+    }
+    a
+}

@@ -4,7 +4,7 @@
 //! withheld from the choice.
 
 use crate::stats::{mean_sd, quantile};
-use crate::summary::{CellId, CellKind, PaperCell};
+use crate::cell::{CellId, CellKind, PaperCell};
 use serde::{Deserialize, Serialize};
 
 /// The space a cell is compared in: log for the maximum errors (they span orders of

@@ -21,6 +21,7 @@
 
 pub mod apply;
 pub mod assumptions;
+pub mod cell;
 pub mod draw;
 mod error;
 pub mod gap;

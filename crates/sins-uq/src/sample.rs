@@ -37,7 +37,7 @@ impl Job {
         match self {
             Job::Point => None,
             Job::Draw(slot, i) => Some(draw(set, slot, i)),
-            Job::Mix(g, i) => Some(crate::sobol::mixed_draw(set, g, i)),
+            Job::Mix(g, i) => Some(crate::draw::mixed_draw(set, g, i)),
         }
     }
 }
@@ -87,7 +87,7 @@ pub fn all_jobs(set: &AssumptionSet) -> Vec<Job> {
     for (c, cand) in set.candidates.iter().enumerate() {
         jobs.extend((0..cand.samples).map(|i| Job::Draw(Slot::Candidate(c), i)));
     }
-    let groups = crate::sobol::groups(set).len();
+    let groups = crate::draw::groups(set).len();
     for i in 0..set.pick_freeze_samples.min(set.samples) {
         jobs.push(Job::Draw(Slot::Resample, i));
         jobs.extend((0..groups).map(|g| Job::Mix(g, i)));

@@ -26,50 +26,10 @@ pub const FDR: f64 = 0.1;
 /// single replay.
 pub const FLOOR_M: f64 = 0.3;
 
-/// Which number of a Table 5 row.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum CellKind {
-    /// Maximum horizontal error without temperature compensation (30-state set, nmi).
-    Without,
-    /// With temperature compensation (42-state set, nmi).
-    With,
-    /// Improvement (%).
-    Improvement,
-}
+pub use crate::cell::{CellId, CellKind, PaperCell};
 
-/// One cell of Table 5.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub struct CellId {
-    /// Experiment (1-based).
-    pub experiment: usize,
-    /// Which number.
-    pub kind: CellKind,
-}
-
+/// The value of a cell in a sample (here: it needs the sample's outcome).
 impl CellId {
-    /// "exp1 without", "exp2 with", "exp3 improvement".
-    pub fn label(&self) -> String {
-        let k = match self.kind {
-            CellKind::Without => "without",
-            CellKind::With => "with",
-            CellKind::Improvement => "improvement",
-        };
-        format!("exp{} {k}", self.experiment)
-    }
-
-    /// Parses [`Self::label`]'s form.
-    pub fn parse(text: &str) -> Option<Self> {
-        let (e, k) = text.trim().split_once(' ')?;
-        let experiment = e.strip_prefix("exp")?.parse().ok().filter(|e| *e >= 1)?;
-        let kind = match k.trim() {
-            "without" => CellKind::Without,
-            "with" => CellKind::With,
-            "improvement" => CellKind::Improvement,
-            _ => return None,
-        };
-        Some(Self { experiment, kind })
-    }
-
     /// The cell's value in a sample (nmi or %), NaN when the sample has no such run.
     pub fn value(&self, o: &SampleOutcome) -> f64 {
         let Some([e30, e42]) = o.max_horizontal_m.get(self.experiment - 1) else {
@@ -91,16 +51,6 @@ pub fn all_cells(runs: usize) -> Vec<CellId> {
                 .map(|kind| CellId { experiment, kind })
         })
         .collect()
-}
-
-/// The paper's value of a cell and its own scatter (the STD of its three experiments in that
-/// column).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PaperCell {
-    /// Value (nmi or %).
-    pub value: f64,
-    /// Scatter (same unit).
-    pub scatter: f64,
 }
 
 /// One group of Table 2: coefficient indices (state order of eq 8), unit and the paper's STDs.

@@ -1,6 +1,10 @@
 //! Value parsers for command-line options that clap's built-in parsers let through: a thread
 //! count of 0, and times that are negative, zero, NaN or infinite. clap puts the option's name
 //! in front of the message (`invalid value '0' for '--threads <N>': ...`) and exits with 2.
+//! Also the `--dataset [NAME=]PATH` lists of `diagnose` and `noise`.
+
+use anyhow::{Context, Result, bail};
+use std::path::PathBuf;
 
 /// A positive, finite number (e.g. a duration in seconds): refuses `0`, negatives, `nan` and
 /// `inf`.
@@ -34,6 +38,29 @@ pub fn threads(text: &str) -> Result<usize, String> {
         )),
         n => Ok(n),
     }
+}
+
+/// `--dataset [NAME=]PATH` arguments as `(name, path)`; two runs with one name are refused.
+pub fn datasets(args: &[String]) -> Result<Vec<(String, PathBuf)>> {
+    let mut datasets = Vec::new();
+    for d in args {
+        let (name, path) = match d.split_once('=') {
+            Some((n, p)) if !n.is_empty() => (n.to_string(), PathBuf::from(p)),
+            _ => {
+                let p = PathBuf::from(d);
+                let n = p
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .with_context(|| format!("--dataset {d}: not a file path"))?;
+                (n, p)
+            }
+        };
+        if datasets.iter().any(|(n, _): &(String, PathBuf)| n == &name) {
+            bail!("--dataset: two runs are named '{name}'; name them with NAME=PATH");
+        }
+        datasets.push((name, path));
+    }
+    Ok(datasets)
 }
 
 #[cfg(test)]

@@ -51,32 +51,9 @@ pub struct Args {
     pub threads: usize,
 }
 
-/// `--dataset [NAME=]PATH` arguments as `(name, path)`; two runs with one name are refused.
-pub(crate) fn parse_datasets(args: &[String]) -> Result<Vec<(String, PathBuf)>> {
-    let mut datasets = Vec::new();
-    for d in args {
-        let (name, path) = match d.split_once('=') {
-            Some((n, p)) if !n.is_empty() => (n.to_string(), PathBuf::from(p)),
-            _ => {
-                let p = PathBuf::from(d);
-                let n = p
-                    .file_stem()
-                    .map(|s| s.to_string_lossy().into_owned())
-                    .with_context(|| format!("--dataset {d}: not a file path"))?;
-                (n, p)
-            }
-        };
-        if datasets.iter().any(|(n, _): &(String, PathBuf)| n == &name) {
-            bail!("--dataset: two runs are named '{name}'; name them with NAME=PATH");
-        }
-        datasets.push((name, path));
-    }
-    Ok(datasets)
-}
-
 /// Run `diagnose`.
 pub fn run(args: Args, quiet: bool) -> Result<()> {
-    let datasets = parse_datasets(&args.datasets)?;
+    let datasets = argcheck::datasets(&args.datasets)?;
     let calibration_run = match args.calibration_run.as_deref() {
         Some("none") => None,
         Some(name) => {

@@ -3,8 +3,8 @@
 use crate::out::say;
 use crate::report;
 use anyhow::{Context, Result, bail};
-use sins_harness::gate::{Thresholds, junit_xml};
-use sins_harness::summary::Summary;
+use sins_config::{load_report_config, load_thresholds, read_summary};
+use sins_harness::gate::junit_xml;
 use std::path::PathBuf;
 
 /// Arguments of `gate`.
@@ -43,13 +43,13 @@ pub struct GateFailed {
 /// refused before `--config` runs a whole report.
 pub fn run(args: Args, quiet: bool) -> Result<()> {
     let (thresholds_path, report) = thresholds_and_report(&args)?;
-    let thresholds = Thresholds::load(&thresholds_path)?;
+    let thresholds = load_thresholds(&thresholds_path)?;
     let summary_path = match (report, &args.summary) {
         (Some(r), _) => report::produce(&r, quiet)?,
         (None, Some(s)) => s.clone(),
         (None, None) => bail!("give --summary FILE --thresholds FILE, or --config FILE"),
     };
-    let summary = Summary::from_json_file(&summary_path)?;
+    let summary = read_summary(&summary_path)?;
     let checks = thresholds.check(&summary, &summary_path).with_context(|| {
         format!(
             "nothing to check with thresholds {}",
@@ -85,7 +85,7 @@ fn thresholds_and_report(args: &Args) -> Result<(PathBuf, Option<report::Args>)>
             Ok((t, None))
         }
         (None, Some(c)) => {
-            let config = sins_harness::config::load_report_config(c)?;
+            let config = load_report_config(c)?;
             let thresholds = match (&args.thresholds, &config.gate) {
                 (Some(t), _) | (None, Some(t)) => t.clone(),
                 (None, None) => bail!(

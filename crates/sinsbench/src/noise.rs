@@ -321,7 +321,7 @@ fn write_outputs(
 
 /// Run `noise`.
 pub fn run(args: Args, quiet: bool) -> Result<()> {
-    let datasets = crate::diagnose::parse_datasets(&args.datasets)?;
+    let datasets = crate::argcheck::datasets(&args.datasets)?;
     let (parent, name) = crate::outputs::output_dir(&args.out, "noise")?;
     if !quiet {
         note!(

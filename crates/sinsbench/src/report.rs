@@ -3,7 +3,7 @@
 use crate::out::say;
 use crate::{defaults, progress};
 use anyhow::Result;
-use sins_harness::config::load_report_config;
+use sins_config::load_report_config;
 use std::path::PathBuf;
 
 /// Arguments of `report`.

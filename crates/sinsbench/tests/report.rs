@@ -243,8 +243,7 @@ fn report_on_own_datasets_and_parameter_files() {
         &s(&reports),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let summary = sins_harness::summary::Summary::from_json_file(&reports.join("own/summary.json"))
-        .expect("summary");
+    let summary = sins_config::read_summary(&reports.join("own/summary.json")).expect("summary");
     let e = &summary.experiments[0];
     let none = e.results["none"].max_horizontal_m;
     let truth = e.results["truth"].max_horizontal_m;

@@ -126,6 +126,10 @@ impl View<'_> {
         cache: &mut Option<([u64; 6], Reconstructed)>,
     ) -> Reconstructed {
         let intervals = k1 - k0;
+        #[allow(
+            clippy::expect_used,
+            reason = "the batch holds every interval from k0 to k1 and its neighbours"
+        )]
         let stencil = |k| self.stencil(taps.width, k).expect("computable interval");
         if self.quiet_path {
             let ((s0, _), (s1, n1)) = (stencil(k0), stencil(k1 - 1));
@@ -210,6 +214,10 @@ impl Workers {
     }
 
     /// Queue a job (round robin).
+    #[allow(
+        clippy::expect_used,
+        reason = "a worker ends only with the pool or by panicking, which is propagated"
+    )]
     pub fn submit(&mut self, job: Job) {
         let w = self.submitted % self.to.len();
         self.to[w].send(job).expect("reconstruction worker alive");
@@ -217,6 +225,10 @@ impl Workers {
     }
 
     /// The results of the oldest job in flight: waiting for them if `wait`, else only if done.
+    #[allow(
+        clippy::expect_used,
+        reason = "a worker's panic is propagated to the caller"
+    )]
     pub fn next(&mut self, wait: bool) -> Option<Vec<Reconstructed>> {
         if self.in_flight() == 0 {
             return None;

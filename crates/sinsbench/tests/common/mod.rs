@@ -119,7 +119,7 @@ pub fn gate_summary_json(with_nmi: f64, without_nmi: f64) -> String {
         .into_iter()
         .map(|(k, v)| (k.to_string(), result(v)))
         .collect();
-    Summary {
+    let summary = Summary {
         schema: SUMMARY_SCHEMA,
         name: "test".into(),
         description: String::new(),
@@ -137,8 +137,8 @@ pub fn gate_summary_json(with_nmi: f64, without_nmi: f64) -> String {
             improvement_percent: Some(improvement_percent(without_nmi, with_nmi)),
             paper: None,
         }],
-    }
-    .to_json()
+    };
+    sins_config::summary_to_json(&summary)
 }
 
 /// Exit code 2 and a message on stderr that contains every one of `needles`.
