@@ -4,9 +4,9 @@
 //! files, so its bytes do not depend on how many workers ran the shards, or in which order.
 
 use crate::CampaignError;
+use crate::kinds::load_work;
 use crate::manifest::{BinaryId, FORMAT, Manifest, array_syntax, config_sha256};
 use crate::spec::{Campaign, parse_campaign};
-use crate::kinds::load_work;
 use crate::work::{Work, write_text};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};

@@ -10,7 +10,6 @@ use polars_parquet::read::FileMetadata;
 use std::collections::HashMap;
 use std::path::PathBuf;
 
-
 /// Everything the decoder thread needs, immutable.
 pub(crate) struct ReadPlan {
     pub path: PathBuf,

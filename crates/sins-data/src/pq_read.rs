@@ -18,9 +18,7 @@ use crate::pq_decode::{
     read_chunk,
 };
 use crate::schema::{DatasetFormat, DatasetInfo, SEGMENT_COLUMN, SampleBatch};
-use crate::validate::{
-    TimeCheck, check_meta, column_limits, first_outside, implausible,
-};
+use crate::validate::{TimeCheck, check_meta, column_limits, first_outside, implausible};
 use polars_arrow::datatypes::ArrowDataType;
 use polars_parquet::read::{infer_schema, read_metadata};
 

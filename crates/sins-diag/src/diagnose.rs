@@ -21,9 +21,9 @@ use crate::rank::{
 };
 use crate::refine::{RefineStart, Refinement, refine};
 use crate::replay::temperature_series;
-use crate::runs::{output_columns, par_runs, track_at};
 use crate::report::Verdict;
 use crate::report::{Diagnosis, RunSeries};
+use crate::runs::{output_columns, par_runs, track_at};
 use crate::sensitivity::{ColumnId, RunSensitivity, SensitivitySetup, run_sensitivity};
 use crate::stats::chi2_sf;
 use crate::validate::{EvalRun, OutputColumns, Winner, validate};

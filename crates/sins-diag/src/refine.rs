@@ -14,12 +14,12 @@
 
 use crate::absorb::{Absorption, CalibrationRun};
 use crate::candidates::{RegressionFit, forward_select, select};
-use crate::runs::{output_columns, par_runs, track_at};
 use crate::error::DiagError;
 use crate::input::{DiagnoseConfig, DiagnosisInput};
 use crate::problem::{Problem, RunFitData};
 use crate::rank::Layout;
 use crate::replay::replay_corrected;
+use crate::runs::{output_columns, par_runs, track_at};
 use crate::sensitivity::{RunSensitivity, SensitivitySetup, run_sensitivity};
 use crate::validate::OutputColumns;
 use sins_imu::EffectSpec;

@@ -84,4 +84,3 @@ pub fn output_columns(s: &RunSensitivity, l: &Layout) -> OutputColumns {
         })
         .collect()
 }
-

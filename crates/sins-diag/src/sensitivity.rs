@@ -11,8 +11,8 @@ use crate::replay::ReplaySetup;
 use crate::source::SampleSource;
 use crate::temperature::TemperatureSeries;
 use nalgebra::DMatrix;
-use sins_imu::effects::time_local::{BiasEvent, EventShape};
 use sins_imu::effects::Sensor;
+use sins_imu::effects::time_local::{BiasEvent, EventShape};
 use sins_imu::{EffectKind, EffectSpec, ImuErrorParams, Linearity};
 use sins_nav::{Geodetic, Vec3};
 use sins_replay::ErrorPoint;
@@ -189,7 +189,11 @@ fn turn_on_column(axis: usize, tau_s: f64, start_s: f64) -> ColumnEval {
     let mut magnitude = Vec3::zeros();
     magnitude[axis % 3] = 1.0;
     ColumnEval::Effect(Box::new(BiasEvent {
-        sensor: if axis < 3 { Sensor::Gyro } else { Sensor::Accel },
+        sensor: if axis < 3 {
+            Sensor::Gyro
+        } else {
+            Sensor::Accel
+        },
         magnitude,
         onset_s: start_s,
         shape: EventShape::Transient {

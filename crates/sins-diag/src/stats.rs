@@ -59,14 +59,21 @@ mod tests {
         assert!((chi2_sf(10.0, 10.0) - 0.440_493_285_065_212_6).abs() < 1e-12);
         // A Bonferroni level of the time-local scan: 0.05 over 47 916 tests.
         let q = chi2_isf(0.05 / 47_916.0, 1.0);
-        assert!((chi2_sf(q, 1.0) * 47_916.0 / 0.05 - 1.0).abs() < 1e-6, "{q}");
+        assert!(
+            (chi2_sf(q, 1.0) * 47_916.0 / 0.05 - 1.0).abs() < 1e-6,
+            "{q}"
+        );
         // Large dof: close to normal; the median is about dof (1 - 2/(9 dof))^3.
         let n: f64 = 3000.0;
         let med = n * (1.0 - 2.0 / (9.0 * n)).powi(3);
         assert!((chi2_sf(med, n) - 0.5).abs() < 1e-3);
         // Far tails stay positive and ordered (p-values of strong events).
         assert!(chi2_sf(2000.0, 1.0) < chi2_sf(1000.0, 1.0));
-        assert!((normal_cdf(1.281_551_565_544_600_4) - 0.9).abs() < 1e-9, "{}", normal_cdf(1.281_551_565_544_600_4));
+        assert!(
+            (normal_cdf(1.281_551_565_544_600_4) - 0.9).abs() < 1e-9,
+            "{}",
+            normal_cdf(1.281_551_565_544_600_4)
+        );
         assert!((normal_cdf(-1.959_963_984_540_054) - 0.025).abs() < 1e-9);
     }
 

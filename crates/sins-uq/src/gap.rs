@@ -3,8 +3,8 @@
 //! paper's scatter as the noise; the choice on some cells; the shrinkage of the gap on the cells
 //! withheld from the choice.
 
-use crate::stats::{mean_sd, quantile};
 use crate::cell::{CellId, CellKind, PaperCell};
+use crate::stats::{mean_sd, quantile};
 use serde::{Deserialize, Serialize};
 
 /// The space a cell is compared in: log for the maximum errors (they span orders of

@@ -47,24 +47,46 @@ const IO: &[&str] = &[
 const OUTER: &[(&str, &[&str])] = &[
     (
         "sins-config",
-        &["sins-data", "sins-plot", "sins-viz", "sins-report", "polars", "rerun"],
+        &[
+            "sins-data",
+            "sins-plot",
+            "sins-viz",
+            "sins-report",
+            "polars",
+            "rerun",
+        ],
     ),
-    ("sins-data", &["sins-plot", "sins-viz", "sins-report", "rerun"]),
-    ("sins-plot", &["polars", "rerun", "sins-data", "sins-config"]),
+    (
+        "sins-data",
+        &["sins-plot", "sins-viz", "sins-report", "rerun"],
+    ),
+    (
+        "sins-plot",
+        &["polars", "rerun", "sins-data", "sins-config"],
+    ),
     ("sins-viz", &["polars", "sins-data", "sins-report"]),
 ];
 
 /// A dependency name matches a banned one exactly or as its family (`polars-core` for `polars`).
 fn banned(name: &str, list: &[&str]) -> bool {
-    list.iter()
-        .any(|b| name == *b || name.starts_with(&format!("{b}-")) || name.starts_with(&format!("{b}_")))
+    list.iter().any(|b| {
+        name == *b || name.starts_with(&format!("{b}-")) || name.starts_with(&format!("{b}_"))
+    })
 }
 
 /// `cargo tree -e normal,build -p crate` as (depth, name) lines.
 fn tree(krate: &str) -> Vec<(usize, String)> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = Command::new(cargo)
-        .args(["tree", "-e", "normal,build", "--prefix", "depth", "-p", krate])
+        .args([
+            "tree",
+            "-e",
+            "normal,build",
+            "--prefix",
+            "depth",
+            "-p",
+            krate,
+        ])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .expect("cargo tree runs");
@@ -129,6 +151,9 @@ fn the_check_sees_a_known_dependency() {
     // The check would pass vacuously if the tree came back empty or misparsed: sins-diag
     // reaches nalgebra and sins-nav.
     let names: BTreeSet<String> = tree("sins-diag").into_iter().map(|(_, n)| n).collect();
-    assert!(names.contains("nalgebra") && names.contains("sins-nav"), "{names:?}");
+    assert!(
+        names.contains("nalgebra") && names.contains("sins-nav"),
+        "{names:?}"
+    );
     assert!(banned("polars-parquet", IO) && !banned("serde", IO));
 }

@@ -584,7 +584,12 @@ mod tests {
         let g = grade(&cases);
         assert_eq!(g.time_local_found, (2, 5));
         assert_eq!(g.time_local_found_on_channel, (1, 5));
-        assert!(g.cases[4].time_local.as_ref().is_some_and(|t| t.as_alternative));
+        assert!(
+            g.cases[4]
+                .time_local
+                .as_ref()
+                .is_some_and(|t| t.as_alternative)
+        );
         assert_eq!(g.time_local_false_alarms, (1, 1));
         // Drawn time-local cases are not counted with the original out-of-catalogue cases.
         assert_eq!(g.out_of_catalogue_unexplained.1, 0);

@@ -97,8 +97,8 @@ pub fn grade_case(a: &CaseAnswer, d: &Diagnosis) -> Option<TimeLocalGrade> {
     };
     let on_channel = strongest(&|e| e.channel == ch);
     let as_alternative = on_channel.is_none();
-    let event = on_channel
-        .or_else(|| strongest(&|e| e.alternatives.iter().any(|a| a.channel == ch)));
+    let event =
+        on_channel.or_else(|| strongest(&|e| e.alternatives.iter().any(|a| a.channel == ch)));
     let as_alternative = as_alternative && event.is_some();
     let truth = h.onset_time_s();
     let onset_within_3_sigma = event
