@@ -26,6 +26,7 @@ use crate::report::{Diagnosis, RunSeries};
 use crate::runs::{output_columns, par_runs, track_at};
 use crate::sensitivity::{ColumnId, RunSensitivity, SensitivitySetup, run_sensitivity};
 use crate::stats::chi2_sf;
+use crate::unresolved::add_unresolved_walks;
 use crate::validate::{EvalRun, OutputColumns, Winner, validate};
 use crate::walk::fit_walk;
 use nalgebra::{DMatrix, DVector};
@@ -239,6 +240,9 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
             sigma_m,
         });
         data.push(fd);
+    }
+    if let Some(u) = add_unresolved_walks(&mut data, &input.noise, cfg.null_alpha)? {
+        notes.push(u.note());
     }
     let all: Vec<&RunFitData> = data.iter().collect();
     let problem = Problem::new(&all)?;

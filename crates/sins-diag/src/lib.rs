@@ -82,6 +82,7 @@ pub mod sensitivity;
 pub mod source;
 pub mod stats;
 pub mod temperature;
+pub mod unresolved;
 pub mod validate;
 pub mod walk;
 

@@ -75,6 +75,15 @@ pub struct NoiseSpec {
     /// shorter vibration.
     #[serde(default = "default_quantum_factor")]
     pub gyro_quantum_factor: f64,
+    /// The largest bias random walk each triad may carry that the noise identification could
+    /// not exclude (`[gyro rad/s/√s, accelerometer m/s²/√s]`: the 95 % upper bounds of the
+    /// identified rate random walks). Stationary stretches of a few hours cannot resolve a bias
+    /// wander that a 15 h navigation run integrates into kilometres; the diagnosis fits such a
+    /// walk from the navigation gap within this bound and counts it as twin noise
+    /// (see `unresolved`); 0 for a triad whose walk the identification resolved (a finding,
+    /// not noise). `None` for a noise model that is given, not identified.
+    #[serde(default)]
+    pub unresolved_walk_per_sqrt_s: Option<[f64; 2]>,
 }
 
 /// See [`NoiseSpec::gyro_quantum_factor`].
@@ -99,6 +108,7 @@ impl From<&sins_sim::NoiseModel> for NoiseSpec {
             },
             gyro_quantum_rad: n.gyro_quantum_rad,
             gyro_quantum_factor: DEFAULT_QUANTUM_FACTOR,
+            unresolved_walk_per_sqrt_s: None,
         }
     }
 }

@@ -47,6 +47,23 @@ fn chi2(dof: f64) -> Option<ChiSquared> {
         .flatten()
 }
 
+/// Standard normals from a fixed linear congruential generator (Box-Muller), for the tests.
+#[cfg(test)]
+pub(crate) fn test_normals(n: usize, mut state: u64) -> Vec<f64> {
+    let mut uniform = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    (0..n)
+        .map(|_| {
+            let (u, v) = (uniform(), uniform());
+            (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

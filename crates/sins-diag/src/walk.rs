@@ -361,22 +361,7 @@ pub fn fit_walk(p: &Problem, v: &DMatrix<f64>, blocks: &[usize], typical: f64) -
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Standard normals from a fixed linear congruential generator (Box-Muller).
-    fn normals(n: usize, mut state: u64) -> Vec<f64> {
-        let mut uniform = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-        };
-        (0..n)
-            .map(|_| {
-                let (u, v) = (uniform(), uniform());
-                (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-            })
-            .collect()
-    }
+    use crate::stats::test_normals as normals;
 
     #[test]
     fn independent_increments_are_white_and_the_lag_statistic_is_exact_for_unit_covariance() {

@@ -20,6 +20,7 @@ fn quiet() -> NoiseSpec {
         accel_bias: BiasProcess::NONE,
         gyro_quantum_rad: 0.0,
         gyro_quantum_factor: 0.0,
+        unresolved_walk_per_sqrt_s: None,
     }
 }
 

@@ -6,6 +6,9 @@ use sins_diag::noise::NoiseSpec;
 use sins_sim::NoiseModel;
 use sins_sim::noise::GM_ALLAN_PEAK_RATIO;
 
+/// The standard normal's one-sided 95 % quantile.
+const ONE_SIDED_95_Z: f64 = 1.644_853_626_951_472_2;
+
 /// An identified quantity with its 1-sigma (same unit).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Estimate {
@@ -19,6 +22,18 @@ pub struct Estimate {
 }
 
 impl Estimate {
+    /// One-sided 95 % upper bound: the given one for a term fitted at zero, else
+    /// `value + 1.645 σ`; `None` when the term was not fitted or its σ is unknown.
+    pub fn upper_95(&self) -> Option<f64> {
+        match self.upper_95 {
+            Some(u) => Some(u),
+            None if self.sigma.is_finite() && (self.value > 0.0 || self.sigma > 0.0) => {
+                Some(self.value + ONE_SIDED_95_Z * self.sigma)
+            }
+            None => None,
+        }
+    }
+
     /// A value known exactly.
     pub fn exact(value: f64) -> Self {
         Self {
@@ -156,9 +171,27 @@ impl IdentifiedNoise {
     }
 
     /// The diagnosis's noise specification (quantization factor at its default,
-    /// [`sins_diag::noise::DEFAULT_QUANTUM_FACTOR`]).
+    /// [`sins_diag::noise::DEFAULT_QUANTUM_FACTOR`]),
+    /// with the 95 % upper bounds of the rate random walks as the walks the identification
+    /// could not exclude ([`NoiseSpec::unresolved_walk_per_sqrt_s`]; none when the rate random
+    /// walk was not fitted). A triad whose walk the identification resolved (above zero at
+    /// 95 %) gets 0: that walk is a finding the diagnosis reports, not noise its twin absorbs.
     pub fn to_noise_spec(&self) -> NoiseSpec {
-        NoiseSpec::from(&self.to_noise_model())
+        let bounds = [&self.gyro, &self.accel].map(|s| {
+            let k = s.rate_random_walk_per_sqrt_s;
+            if k.value > ONE_SIDED_95_Z * k.sigma {
+                Some(0.0)
+            } else {
+                k.upper_95()
+            }
+        });
+        NoiseSpec {
+            unresolved_walk_per_sqrt_s: match bounds {
+                [Some(g), Some(a)] => Some([g, a]),
+                _ => None,
+            },
+            ..NoiseSpec::from(&self.to_noise_model())
+        }
     }
 
     /// Total stationary time used over all runs (s).
