@@ -3,7 +3,7 @@
 //! then move: the error is the navigated offset from the site minus the reference's).
 
 use crate::ReportError;
-use crate::run::Progress;
+use crate::progress::Progress;
 use sins_data::{DatasetReader, ReferenceRow};
 use sins_harness::pipeline::{MultiReplay, NamedParams, RunOutcome};
 use sins_harness::replay_setup::ReplayOptions;

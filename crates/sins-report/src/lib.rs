@@ -12,8 +12,10 @@
 mod dataset;
 mod error;
 mod markdown;
+mod names;
 mod output;
 mod plots;
+mod progress;
 mod rrd;
 mod run;
 mod simulate;
@@ -28,7 +30,8 @@ pub use markdown::render_markdown;
 pub use output::{
     OUTPUT_MARKER, ReportFiles, check_output_dir, write_bytes, write_dir_atomically, write_report,
 };
-pub use run::{Progress, ReportRun, ResolvedSet, run_report};
+pub use progress::Progress;
+pub use run::{ReportRun, ResolvedSet, run_report};
 pub use simulate::{
     check_output_space, dataset_meta, estimated_dataset_bytes, human_bytes, simulate_to_dataset,
     simulate_to_dataset_with,
@@ -36,8 +39,8 @@ pub use simulate::{
 pub use uq_config::{
     UqStudy, load_base, load_table2, load_uq_study, paper_cells, table2_indices, unit_si,
 };
-pub use uq_markdown::render_uq_markdown;
+pub use uq_markdown::{render_uq_markdown, uq_table_for_report};
 pub use uq_write::{
-    intervals_figure, read_sample, sample_path, sensitivity_figure, uq_table_for_report,
-    write_atomic, write_sample, write_uq_outputs,
+    intervals_figure, read_sample, sample_path, sensitivity_figure, write_atomic, write_sample,
+    write_uq_outputs,
 };

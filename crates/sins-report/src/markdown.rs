@@ -1,7 +1,7 @@
 //! `report.md`: the paper's Table 5 layout beside ours, where and when the maxima occur,
 //! per-segment maxima, plots, recordings, the parameter sets and an honest comparison.
 
-use crate::output::{plot_file, rrd_file, track_file};
+use crate::names::{plot_file, rrd_file, track_file};
 use crate::run::ReportRun;
 use sins_config::coefficient_table;
 use sins_harness::summary::ExperimentSummary;

@@ -5,6 +5,7 @@
 //! moved.
 
 use crate::ReportError;
+use crate::names::{plot_file, rrd_file, track_file};
 use crate::run::ReportRun;
 use crate::{markdown, plots, rrd, tracks};
 use sins_config::{ParamSet, summary_to_json, write_params};
@@ -17,21 +18,6 @@ pub struct ReportFiles {
     pub dir: PathBuf,
     /// Every file in it (relative names).
     pub files: Vec<String>,
-}
-
-/// `<run>_errors.parquet`.
-pub(crate) fn track_file(run: &str) -> String {
-    format!("{run}_errors.parquet")
-}
-
-/// `<run>.rrd`.
-pub(crate) fn rrd_file(run: &str) -> String {
-    format!("{run}.rrd")
-}
-
-/// `<run>_<what>.png`.
-pub(crate) fn plot_file(run: &str, what: &str) -> String {
-    format!("{run}_{what}.png")
 }
 
 fn write_text(path: &Path, text: &str) -> Result<(), ReportError> {

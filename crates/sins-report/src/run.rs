@@ -14,15 +14,7 @@ use sins_harness::summary::{ExperimentSummary, ParamSetInfo, SUMMARY_SCHEMA, Sum
 use sins_imu::{ImuErrorParams, ParamModel};
 use std::time::Instant;
 
-/// Progress of the long steps (the CLI draws bars; tests ignore it).
-pub trait Progress {
-    /// A step with `total` units of work starts.
-    fn begin(&mut self, label: &str, total: u64);
-    /// `n` more units are done.
-    fn advance(&mut self, n: u64);
-    /// The step ended.
-    fn end(&mut self);
-}
+use crate::progress::Progress;
 
 /// A parameter set ready to replay with.
 #[derive(Clone, Debug)]

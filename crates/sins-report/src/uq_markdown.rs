@@ -17,7 +17,7 @@ pub fn render_uq_markdown(s: &UqSummary) -> String {
          the paper's three experiments in the same column. Verdict (ASME V&V 20): consistent when |E| <= 2 u_val.\n",
         s.samples, s.seed
     );
-    o.push_str(&crate::uq_write::uq_table_for_report(s));
+    o.push_str(&uq_table_for_report(s));
     let _ = writeln!(
         o,
         "\nBootstrap standard errors of the quantiles (5 % / 50 % / 95 %):\n"
@@ -275,4 +275,35 @@ fn gap(o: &mut String, s: &UqSummary) {
             w.cell, w.paper, w.baseline, w.corrected, w.shrinkage_percent
         );
     }
+}
+
+/// A short text of the per-cell interval and verdict for `report.md` (used by `report --uq`).
+pub fn uq_table_for_report(s: &UqSummary) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "## Table 5 as a prediction (replica-uq, {} samples, seed {})\n",
+        s.samples, s.seed
+    );
+    let _ = writeln!(
+        out,
+        "| cell | point | median | 5-95 % | paper | E = S - D | u_val | V&V 20 verdict |\n|---|---|---|---|---|---|---|---|"
+    );
+    for c in &s.cells {
+        let (d, e, u, verdict) = match &c.validation {
+            Some(v) => (
+                format!("{:.2}", v.d),
+                format!("{:+.2}", v.e),
+                format!("{:.2}", v.u_val),
+                v.verdict(),
+            ),
+            None => ("-".into(), "-".into(), "-".into(), "-".into()),
+        };
+        let _ = writeln!(
+            out,
+            "| {} | {:.2} | {:.2} | {:.2} - {:.2} | {d} | {e} | {u} | {verdict} |",
+            c.cell, c.point, c.median, c.p05, c.p95
+        );
+    }
+    out
 }

@@ -8,7 +8,6 @@ use crate::ReportError;
 use sins_plot::{Figure, Line, Panel, Rgb, SERIES_PALETTE};
 use sins_uq::sample::SampleOutcome;
 use sins_uq::summary::UqSummary;
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// Writes `bytes` to `path` aside and renames it into place
@@ -208,35 +207,4 @@ fn group_panel(cell: &str, groups: &[sins_uq::sobol::GroupIndex]) -> Panel {
         ));
     }
     p.x_range(0.3, groups.len() as f64 + 0.7)
-}
-
-/// A short text of the per-cell interval and verdict for `report.md` (used by `report --uq`).
-pub fn uq_table_for_report(s: &UqSummary) -> String {
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "## Table 5 as a prediction (replica-uq, {} samples, seed {})\n",
-        s.samples, s.seed
-    );
-    let _ = writeln!(
-        out,
-        "| cell | point | median | 5-95 % | paper | E = S - D | u_val | V&V 20 verdict |\n|---|---|---|---|---|---|---|---|"
-    );
-    for c in &s.cells {
-        let (d, e, u, verdict) = match &c.validation {
-            Some(v) => (
-                format!("{:.2}", v.d),
-                format!("{:+.2}", v.e),
-                format!("{:.2}", v.u_val),
-                v.verdict(),
-            ),
-            None => ("-".into(), "-".into(), "-".into(), "-".into()),
-        };
-        let _ = writeln!(
-            out,
-            "| {} | {:.2} | {:.2} | {:.2} - {:.2} | {d} | {e} | {u} | {verdict} |",
-            c.cell, c.point, c.median, c.p05, c.p95
-        );
-    }
-    out
 }
