@@ -11,7 +11,7 @@
 //! - `--twin`: subtract each run's noise-free replay as the twin mean; `--noq`: no gyro quantizer;
 //! - env `DIAG_KAPPA`: the twin's quantization factor; `DIAG_SERIES`: print the gap series.
 
-use sins_diag::diagnose::diagnose;
+use sins_diag::diagnose;
 use sins_diag::input::{DiagnoseConfig, DiagnosisInput, RunData};
 use sins_diag::noise::NoiseSpec;
 use sins_diag::replay::{ReplaySetup, replay_run};

@@ -2,12 +2,12 @@
 //! the gyro quantizer (same seed, so every other noise stream is identical), against the twin's
 //! quantization-only spread. Run: `cargo run --release -p sins-diag --example qerr -- [seed]`
 
-use sins_diag::diagnose::diagnose;
+use sins_diag::diagnose;
 use sins_diag::input::{DiagnoseConfig, DiagnosisInput, RunData};
 use sins_diag::noise::NoiseSpec;
 use sins_diag::replay::{ReplaySetup, replay_run};
-use sins_diag::runs::track_at;
 use sins_diag::source::SimSource;
+use sins_diag::track_at;
 use sins_imu::ForwardModel;
 use sins_sim::{NoiseModel, Simulator};
 use std::path::PathBuf;

@@ -68,16 +68,6 @@ impl ColumnBank {
         self
     }
 
-    /// Number of columns propagated for the whole run.
-    pub fn len(&self) -> usize {
-        self.n_main
-    }
-
-    /// True when the bank has no such column.
-    pub fn is_empty(&self) -> bool {
-        self.n_main == 0
-    }
-
     /// Columns still propagated: all of them until the turn-on columns are recorded.
     fn active(&self) -> usize {
         if self.turn_on_recorded {

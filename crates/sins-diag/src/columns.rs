@@ -117,15 +117,6 @@ pub const PARAM_SLOTS: [ParamSlot; 33] = [
 ];
 
 impl ParamSlot {
-    /// The SI value of this coefficient in `p` (eq 8 layout).
-    pub fn value(&self, p: &ImuErrorParams) -> f64 {
-        let i = PARAM_SLOTS
-            .iter()
-            .position(|s| s.name == self.name)
-            .unwrap_or(0);
-        param_vector(p)[i]
-    }
-
     /// The scalar multiplying a unit (SI) coefficient in the increment of [`Self::row`].
     #[inline]
     fn scalar(&self, s: &SampleInputs) -> f64 {
@@ -256,13 +247,6 @@ impl ColumnEval {
                 let (dtheta_rad, dv_mps) = e.perturbation(&s.ctx);
                 Perturbation::Full { dtheta_rad, dv_mps }
             }
-        }
-    }
-
-    /// Return a stateful effect to its start (before a new pass).
-    pub fn reset(&mut self) {
-        if let ColumnEval::Effect(e) = self {
-            e.reset();
         }
     }
 }

@@ -15,8 +15,6 @@ use nalgebra::{DMatrix, DVector};
 pub struct Whitener {
     factors: Vec<Mat<f64>>,
     offsets: Vec<usize>,
-    /// `Σ log det D_r`.
-    pub logdet: f64,
 }
 
 impl Whitener {
@@ -24,7 +22,6 @@ impl Whitener {
     pub fn new(covs: &[DMatrix<f64>]) -> Result<Self, DiagError> {
         let mut factors = Vec::with_capacity(covs.len());
         let mut offsets = Vec::with_capacity(covs.len() + 1);
-        let mut logdet = 0.0;
         let mut off = 0;
         for (r, d) in covs.iter().enumerate() {
             let n = d.nrows();
@@ -33,17 +30,12 @@ impl Whitener {
                 DiagError::Numerical(format!("run {r}: covariance not positive definite ({e:?})"))
             })?;
             let l = llt.L().to_owned();
-            logdet += (0..n).map(|i| 2.0 * l[(i, i)].ln()).sum::<f64>();
             offsets.push(off);
             off += n;
             factors.push(l);
         }
         offsets.push(off);
-        Ok(Self {
-            factors,
-            offsets,
-            logdet,
-        })
+        Ok(Self { factors, offsets })
     }
 
     /// Total number of rows.
@@ -102,8 +94,6 @@ pub struct Gls {
     pub g: DVector<f64>,
     u: DMatrix<f64>,
     r_inv: DMatrix<f64>,
-    /// `log det S`.
-    pub logdet: f64,
     /// Number of data.
     pub n: usize,
 }
@@ -123,13 +113,12 @@ pub struct Fit {
 
 impl Gls {
     /// The metric for whitened gap `g` and whitened one-sigma nuisance columns `u`.
-    pub fn new(g: DVector<f64>, u: DMatrix<f64>, logdet_d: f64) -> Result<Self, DiagError> {
+    pub fn new(g: DVector<f64>, u: DMatrix<f64>) -> Result<Self, DiagError> {
         let p = u.ncols();
         let m = DMatrix::<f64>::identity(p, p) + u.transpose() * &u;
         let chol = m.cholesky().ok_or_else(|| {
             DiagError::Numerical("calibration-uncertainty capacitance not positive definite".into())
         })?;
-        let logdet_m: f64 = chol.l().diagonal().iter().map(|d| 2.0 * d.ln()).sum();
         let r_inv = chol
             .l()
             .solve_lower_triangular(&DMatrix::identity(p, p))
@@ -139,7 +128,6 @@ impl Gls {
             g,
             u,
             r_inv,
-            logdet: logdet_d + logdet_m,
         })
     }
 

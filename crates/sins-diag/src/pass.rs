@@ -14,7 +14,7 @@ use crate::temperature::TemperatureSeries;
 use sins_imu::{Compensator, ContextTracker, ExtraEffect, ImuErrorParams, ImuSample};
 use sins_nav::alignment::coarse_align;
 use sins_nav::attitude::{quat_from_rotation_vector, skew};
-use sins_nav::{Geodetic, Quat, Vec3};
+use sins_nav::{Quat, Vec3};
 use sins_replay::ErrorPoint;
 
 /// Output and fit grids of a pass.
@@ -47,8 +47,6 @@ pub struct PassInput<'a> {
     pub run: &'a str,
     /// Calibrated parameter set (compensation).
     pub params: &'a ImuErrorParams,
-    /// Turntable site.
-    pub site: Geodetic,
     /// The real error track (attitude anchors).
     pub track: &'a [ErrorPoint],
     /// Temperature rates.

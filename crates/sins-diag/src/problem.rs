@@ -243,7 +243,7 @@ impl Problem {
         let walk_blocks = (0..BIAS_SLOTS.len())
             .map(|b| runs.iter().map(|r| r.walks[b].ncols()).collect())
             .collect();
-        let gls = Gls::new(g.column(0).into_owned(), u.clone(), whitener.logdet)?;
+        let gls = Gls::new(g.column(0).into_owned(), u.clone())?;
         Ok(Self {
             gls,
             a,

@@ -146,7 +146,6 @@ pub fn run_sensitivity(
     let inp = PassInput {
         run,
         params: setup.params,
-        site: *site,
         track,
         temperatures,
         replica: &replica,

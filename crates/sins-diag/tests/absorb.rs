@@ -24,7 +24,7 @@ fn calibration_scenario() -> sins_sim::Scenario {
 fn cal_run<'a>(
     source: &'a mut sins_diag::source::SimSource,
     sc: &'a sins_sim::Scenario,
-    temps: &'a sins_diag::temperature::TemperatureSeries,
+    temps: &'a sins_diag::TemperatureSeries,
 ) -> CalibrationRun<'a> {
     CalibrationRun {
         run: "cal",

@@ -3,7 +3,7 @@
 
 mod common;
 use common::*;
-use sins_diag::diagnose::diagnose;
+use sins_diag::diagnose;
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::report::Verdict;
 use std::time::Instant;
@@ -37,7 +37,7 @@ fn calibration_errors_within_their_sigma_are_no_gap() {
     eprintln!("with calibration sigma: {}", summary(&with));
     // The same uncertainty as a full covariance (the calibration filter's form) gives the same
     // metric.
-    let sv = sins_diag::columns::param_vector(&sigma);
+    let sv = sins_diag::param_vector(&sigma);
     let mut cov = vec![0.0; 33 * 33];
     for i in 0..33 {
         cov[i * 33 + i] = sv[i] * sv[i];

@@ -4,8 +4,8 @@
 
 mod common;
 use common::*;
+use sins_diag::Grid;
 use sins_diag::noise::{BiasProcess, NoiseSpec};
-use sins_diag::pass::Grid;
 use sins_diag::replay::RealTrack;
 use sins_diag::sensitivity::ColumnId;
 use sins_imu::{EffectKind, ImuErrorParams};

@@ -3,7 +3,7 @@
 
 mod common;
 use common::*;
-use sins_diag::diagnose::diagnose;
+use sins_diag::diagnose;
 use sins_diag::input::DiagnoseConfig;
 use sins_imu::EffectKind;
 use std::time::Instant;

@@ -4,7 +4,7 @@
 
 mod common;
 use common::*;
-use sins_diag::diagnose::diagnose;
+use sins_diag::diagnose;
 use sins_diag::events::TimeLocalEvent;
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::report::{Diagnosis, Verdict};

@@ -6,7 +6,7 @@
 
 mod common;
 use common::*;
-use sins_diag::diagnose::diagnose;
+use sins_diag::diagnose;
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::report::{CandidateReport, Diagnosis, Verdict};
 use sins_imu::EffectKind;

@@ -3,7 +3,7 @@
 
 use crate::{DatasetSource, GapError};
 use serde::Serialize;
-use sins_diag::diagnose::diagnose;
+use sins_diag::diagnose;
 use sins_diag::input::{DiagnoseConfig, DiagnosisInput, RunData};
 use sins_diag::noise::NoiseSpec;
 use sins_diag::replay::replay_run;

@@ -11,7 +11,7 @@
 //! of freedom add, the stretches being independent.
 
 use serde::{Deserialize, Serialize};
-use sins_diag::stats::chi2_isf;
+use sins_diag::chi2_isf;
 
 /// The power-law noise type that sets the equivalent degrees of freedom of an estimate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

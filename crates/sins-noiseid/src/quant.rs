@@ -17,7 +17,7 @@
 //! The quantum itself is read from the data: quantised increments are whole multiples of `q`
 //! ([`LatticeDetector`]).
 
-use sins_diag::stats::normal_cdf;
+use sins_diag::normal_cdf;
 
 fn normal_pdf(x: f64) -> f64 {
     (-0.5 * x * x).exp() / (2.0 * std::f64::consts::PI).sqrt()

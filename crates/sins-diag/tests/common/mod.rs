@@ -1,8 +1,8 @@
 //! Scenario builders and pipeline helpers shared by the integration tests.
 #![allow(dead_code)]
 
+use sins_diag::Grid;
 use sins_diag::noise::NoiseSpec;
-use sins_diag::pass::Grid;
 use sins_diag::replay::{RealTrack, ReplaySetup, replay_run};
 use sins_diag::sensitivity::{RunSensitivity, SensitivitySetup, run_sensitivity};
 use sins_diag::source::SimSource;
