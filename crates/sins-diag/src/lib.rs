@@ -56,13 +56,14 @@
 //!
 //! # Stages (modules in the order the data flow through them)
 //! 1. Inputs: `input`, `source` (samples), `replay` (the real track), `temperature`.
-//! 2. Sensitivities and the twin: `sensitivity` (one pass per run: `pass`, `bank`, `columns`,
-//!    `model`, `align`), `noise` (twin covariance), `calib`, `absorb` (the calibration run).
-//! 3. Fit: `problem`, `gls`, `unresolved` (slow noise an identification left open),
-//!    `candidates`, `walk`, `rank`.
+//! 2. The twin (`twin`): `sensitivity` (one pass per run: `pass`, `bank`, `columns`, `model`,
+//!    `align`), `noise` (twin covariance), `calib`, `absorb` (the calibration run).
+//! 3. Fit: `gaps` (gap and fit data per run), `problem`, `gls`, `unresolved` (slow noise an
+//!    identification left open), `candidates`, `walk`, `rank`.
 //! 4. Refine: `refine`.
-//! 5. Time-local effects: `events`.
-//! 6. Verdict, localisation and validation: `constancy`, `localise`, `validate`, `report`.
+//! 5. Time-local effects: `timelocal` over `events`.
+//! 6. Verdict, localisation and validation: `constancy`, `localise`, `winner`, `validate`,
+//!    `report`.
 //!
 //! `diagnose` runs them; `runs` and `stats` are shared helpers. Public are the entry point, its
 //! input and output types, the sample sources and replay other crates feed it with, and the
@@ -85,8 +86,10 @@ mod model;
 pub mod noise;
 mod pass;
 pub mod sensitivity;
+mod twin;
 // 3. Fit.
 mod candidates;
+mod gaps;
 mod gls;
 mod problem;
 mod rank;
@@ -96,12 +99,14 @@ mod walk;
 mod refine;
 // 5. Time-local effects.
 pub mod events;
+mod timelocal;
 // 6. Verdict, localisation, validation, and the diagnosis that runs the stages.
 mod constancy;
 mod diagnose;
 mod localise;
 pub mod report;
 mod validate;
+mod winner;
 // Shared.
 mod error;
 mod runs;

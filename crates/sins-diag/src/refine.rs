@@ -22,7 +22,7 @@ use crate::replay::replay_corrected;
 use crate::runs::{output_columns, par_runs, track_at};
 use crate::sensitivity::{RunSensitivity, SensitivitySetup, run_sensitivity};
 use crate::validate::OutputColumns;
-use sins_imu::EffectSpec;
+use sins_imu::{EffectKind, EffectSpec, ImuErrorParams};
 
 /// A refined candidate and the data about its final linearisation point.
 pub struct Refinement {
@@ -175,29 +175,7 @@ pub fn refine(
             return Ok(best);
         };
         // The set the calibration would have identified without the effect.
-        let params = match absorption {
-            None => *base_setup.params,
-            Some(a) => {
-                let run = input
-                    .runs
-                    .iter_mut()
-                    .find(|r| r.name == a.run)
-                    .ok_or_else(|| {
-                        DiagError::input(&a.run, "calibration run not among the runs")
-                    })?;
-                let temps = run
-                    .temperatures
-                    .as_ref()
-                    .ok_or_else(|| DiagError::input(&run.name, "temperature series missing"))?;
-                let cal = CalibrationRun {
-                    run: &run.name,
-                    source: run.source.as_mut(),
-                    site: &run.site,
-                    temps,
-                };
-                a.without_exact(cal, base_setup.params, base_setup.noise, l.kind, &values)?
-            }
-        };
+        let params = params_without(input, absorption, base_setup, l.kind, &values)?;
         let setup = SensitivitySetup {
             params: &params,
             refine: Some((l.kind, values)),
@@ -210,26 +188,7 @@ pub fn refine(
                 a.fold(s, Some(b));
             }
         }
-        let mut data = Vec::with_capacity(base.len());
-        let mut corrected_gap = Vec::new();
-        let mut out_cols = Vec::new();
-        for (fd, (gap, s)) in base.iter().zip(passes) {
-            let mut fd = fd.clone();
-            for (j, &k) in s.times.fit_index.iter().enumerate() {
-                fd.gap[2 * j] = gap[k][0];
-                fd.gap[2 * j + 1] = gap[k][1];
-            }
-            let cols = output_columns(&s, &l);
-            for (c, out) in cols.iter().enumerate() {
-                for (j, &k) in s.times.fit_index.iter().enumerate() {
-                    fd.columns[(2 * j, l.first + c)] = out[k][0];
-                    fd.columns[(2 * j + 1, l.first + c)] = out[k][1];
-                }
-            }
-            data.push(fd);
-            corrected_gap.push(gap);
-            out_cols.push(cols);
-        }
+        let (data, corrected_gap, out_cols) = corrected_fit_data(base, passes, &l);
         let all: Vec<&RunFitData> = data.iter().collect();
         let p = Problem::new(&all)?;
         let chi2_at_lin = p.gls.chi2();
@@ -281,4 +240,64 @@ pub fn refine(
         }
     }
     Ok(best)
+}
+
+/// The parameter set the calibration would have identified without the effect of `values`
+/// (the given set when no calibration run was given).
+fn params_without(
+    input: &mut DiagnosisInput,
+    absorption: Option<&Absorption>,
+    base_setup: &SensitivitySetup<'_>,
+    kind: EffectKind,
+    values: &[f64],
+) -> Result<ImuErrorParams, DiagError> {
+    let Some(a) = absorption else {
+        return Ok(*base_setup.params);
+    };
+    let run = input
+        .runs
+        .iter_mut()
+        .find(|r| r.name == a.run)
+        .ok_or_else(|| DiagError::input(&a.run, "calibration run not among the runs"))?;
+    let temps = run
+        .temperatures
+        .as_ref()
+        .ok_or_else(|| DiagError::input(&run.name, "temperature series missing"))?;
+    let cal = CalibrationRun {
+        run: &run.name,
+        source: run.source.as_mut(),
+        site: &run.site,
+        temps,
+    };
+    a.without_exact(cal, base_setup.params, base_setup.noise, kind, values)
+}
+
+/// The base fit data with each run's gap and the candidate's columns replaced by those of its
+/// corrected pass; also the corrected gaps and columns on the output grid.
+fn corrected_fit_data(
+    base: &[RunFitData],
+    passes: Vec<CorrectedRun>,
+    l: &Layout,
+) -> (Vec<RunFitData>, Vec<Vec<[f64; 2]>>, Vec<OutputColumns>) {
+    let mut data = Vec::with_capacity(base.len());
+    let mut corrected_gap = Vec::new();
+    let mut out_cols = Vec::new();
+    for (fd, (gap, s)) in base.iter().zip(passes) {
+        let mut fd = fd.clone();
+        for (j, &k) in s.times.fit_index.iter().enumerate() {
+            fd.gap[2 * j] = gap[k][0];
+            fd.gap[2 * j + 1] = gap[k][1];
+        }
+        let cols = output_columns(&s, l);
+        for (c, out) in cols.iter().enumerate() {
+            for (j, &k) in s.times.fit_index.iter().enumerate() {
+                fd.columns[(2 * j, l.first + c)] = out[k][0];
+                fd.columns[(2 * j + 1, l.first + c)] = out[k][1];
+            }
+        }
+        data.push(fd);
+        corrected_gap.push(gap);
+        out_cols.push(cols);
+    }
+    (data, corrected_gap, out_cols)
 }

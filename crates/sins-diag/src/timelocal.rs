@@ -1,0 +1,269 @@
+//! The time-local stage of the diagnosis: the scan for steps, ramps and transients against the
+//! catalogue's leader (see [`crate::events`]), a winning walk refused when the events carried
+//! its evidence, the catalogue ranked again without the events, and the verdict amended.
+
+use crate::candidates::RegressionFit;
+use crate::error::DiagError;
+use crate::events::{
+    EventScan, EventSignal, ScanRun, TimeLocalEvent, chi2_with, scan_with_signals,
+};
+use crate::input::DiagnoseConfig;
+use crate::problem::{Problem, RunFitData};
+use crate::rank::{Evaluated, Layout, NullDist, evaluate};
+use crate::refine::Refinement;
+use crate::report::Verdict;
+use crate::sensitivity::RunSensitivity;
+use crate::stats::chi2_sf;
+use crate::walk::fit_walk;
+use nalgebra::{DMatrix, DVector};
+use sins_imu::EffectKind;
+
+/// What the time-local scan needs from the diagnosis.
+pub(crate) struct ScanScope<'a> {
+    /// The refined candidates.
+    pub refinements: &'a [Refinement],
+    /// Random-walk candidates: kind and first bias axis.
+    pub walks: &'a [(EffectKind, usize)],
+    /// Sensitivity passes, one per run.
+    pub sens: &'a [RunSensitivity],
+    /// Fit data, one per run.
+    pub data: &'a [RunFitData],
+    /// Tests of the catalogue (the Bonferroni factor).
+    pub n_tests: f64,
+}
+
+/// The scan's runs against a deterministic winner's fit (refined if it was), or the twin alone;
+/// the other deterministic candidates with their linear fits, to tell whether one explains an
+/// event.
+fn scan_runs<'a>(
+    winner: Option<&Evaluated>,
+    ranked: &[Evaluated],
+    sc: &ScanScope<'a>,
+) -> Vec<ScanRun<'a>> {
+    let candidates: Vec<(String, &Layout, &RegressionFit)> = ranked
+        .iter()
+        .filter_map(|e| {
+            e.regression
+                .as_ref()
+                .map(|(l, rf)| (e.kind.name().to_string(), l, rf))
+        })
+        .collect();
+    let det = winner.and_then(|w| w.regression.as_ref());
+    let refined = det.and_then(|(l, _)| sc.refinements.iter().find(|r| r.layout.kind == l.kind));
+    let fit_data: &[RunFitData] = refined.map_or(sc.data, |r| &r.data);
+    fit_data
+        .iter()
+        .zip(sc.sens)
+        .map(|(fd, s)| {
+            let mut residual = fd.gap.clone();
+            let mut nuisance = DMatrix::zeros(fd.gap.len(), 0);
+            if let Some((l, rf)) = det {
+                let offset = refined.map_or(vec![0.0; rf.retained.len()], |r| r.theta_lin.clone());
+                let cols: Vec<usize> = rf.retained.iter().map(|&c| l.first + c).collect();
+                nuisance = fd.columns.select_columns(cols.iter());
+                for (i, &c) in cols.iter().enumerate() {
+                    residual.axpy(-(rf.fit.theta[i] - offset[i]), &fd.columns.column(c), 1.0);
+                }
+            }
+            ScanRun {
+                sens: s,
+                fit: fd,
+                residual,
+                nuisance,
+                extra_cov: None,
+                candidates: candidates
+                    .iter()
+                    .map(|(name, l, rf)| {
+                        let mut c = DVector::zeros(fd.gap.len());
+                        for (i, &k) in rf.retained.iter().enumerate() {
+                            c.axpy(rf.fit.theta[i], &fd.columns.column(l.first + k), 1.0);
+                        }
+                        (name.clone(), c)
+                    })
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
+/// The time-local scan of every run (see [`crate::events`]) against the deterministic winner's
+/// fit, or the twin alone when a random walk or nothing won. A winning walk is then refitted on
+/// the gap less the events no deterministic candidate explains: if it is no longer significant,
+/// its evidence was the events (a step or a transient is not a walk) and it is refused;
+/// otherwise each of those events that the fitted walk's covariance makes insignificant is
+/// explained by the walk.
+pub(crate) fn time_local_events(
+    ranked: &mut [Evaluated],
+    sc: &ScanScope<'_>,
+    cfg: &DiagnoseConfig,
+    notes: &mut Vec<String>,
+) -> Result<(EventScan, Vec<EventSignal>), DiagError> {
+    let winner = ranked.first().filter(|e| e.report.passes);
+    let runs = scan_runs(winner, ranked, sc);
+    let (mut events, signals) = scan_with_signals(&runs, &cfg.events)?;
+    let walk = winner
+        .filter(|w| w.regression.is_none())
+        .and_then(|w| sc.walks.iter().find(|(k, _)| *k == w.kind).copied());
+    // The events no deterministic candidate explains.
+    let outside: Vec<usize> = (0..signals.len())
+        .filter(|&i| events.events[i].explained_by.is_none())
+        .collect();
+    let (Some((kind, first)), false) = (walk, outside.is_empty()) else {
+        return Ok((events, signals));
+    };
+    // The walk refitted on the gap less those events.
+    let p2 = without_events(sc.data, outside.iter().map(|&i| &signals[i]))?;
+    let dchi2 = (0..3)
+        .map(|a| {
+            let b = first + a;
+            fit_walk(
+                &p2,
+                &p2.walks[b],
+                &p2.walk_blocks[b],
+                kind.typical_magnitude_si(),
+            )
+            .dchi2
+        })
+        .fold(0.0, f64::max);
+    let p_value = (0.5 * chi2_sf(dchi2, 1.0) * sc.n_tests).min(1.0);
+    let top = &mut ranked[0].report;
+    if let Some(w) = top.whiteness.as_mut() {
+        w.without_events_dchi2 = Some(dchi2);
+    }
+    // A walk's evidence is spread over its independent increments; when all of it is carried by
+    // the events, those events are what the data hold, and the walk only fits them more freely
+    // (a free intensity absorbs a step or a transient; its chi-square drop can even exceed the
+    // event's, since it also bends to the misfit of the event's grid and shape).
+    if p_value >= cfg.alpha {
+        notes.push(format!(
+            "{}: refused; with the {} time-local event(s) outside the catalogue removed its \
+             chi-square drop falls from {:.1} to {:.1} (p {:.2}): the walk was absorbing them",
+            kind.name(),
+            outside.len(),
+            top.dchi2,
+            dchi2,
+            p_value,
+        ));
+        if let Some(w) = top.whiteness.as_mut() {
+            w.consistent = false;
+        }
+        return Ok((events, signals));
+    }
+    let unit = kind.unit();
+    for &i in &outside {
+        let e = &signals[i];
+        let r = &runs[e.run];
+        let mut cov = DMatrix::zeros(r.residual.len(), r.residual.len());
+        for (a, c) in top.components.iter().enumerate() {
+            if let Some(v) = r.fit.walks.get(first + a).filter(|_| c.retained) {
+                cov += v * v.transpose() * unit.to_si(c.value).powi(2);
+            }
+        }
+        let others: Vec<&DVector<f64>> = signals
+            .iter()
+            .enumerate()
+            .filter(|(j, o)| *j != i && o.run == e.run)
+            .map(|(_, o)| &o.contribution)
+            .collect();
+        if chi2_with(r, &cov, &e.contribution, &others)? < events.threshold_chi2 {
+            events.events[i].explained_by = Some(kind.name().to_string());
+        }
+    }
+    Ok((events, signals))
+}
+
+/// The fit problem of `data` with the events' fitted contributions taken off their runs' gaps.
+fn without_events<'a>(
+    data: &[RunFitData],
+    events: impl Iterator<Item = &'a EventSignal>,
+) -> Result<Problem, DiagError> {
+    let mut corrected = data.to_vec();
+    for e in events {
+        corrected[e.run].gap -= &e.contribution;
+    }
+    Problem::new(&corrected.iter().collect::<Vec<_>>())
+}
+
+/// The leading passing candidate's name, or `none`.
+pub(crate) fn leader(ranked: &[Evaluated]) -> &str {
+    ranked
+        .first()
+        .filter(|e| e.report.passes)
+        .map_or("none", |e| e.report.kind.as_str())
+}
+
+/// The catalogue ranked on the gap less the events no catalogue term explains, when that
+/// changes the leader (an effect local in time pulls the fit of slow catalogue signatures: a
+/// turn-on transient passes for a g-sensitivity); `None` when there is no such event or the
+/// leader stays (the first ranking keeps its refinements).
+pub(crate) fn ranked_without_events(
+    ranked: &[Evaluated],
+    events: &EventScan,
+    signals: &[EventSignal],
+    sc: &ScanScope<'_>,
+    layouts: &[Layout],
+    floor_var: f64,
+    cfg: &DiagnoseConfig,
+) -> Result<Option<Vec<Evaluated>>, DiagError> {
+    let mut outside = signals
+        .iter()
+        .zip(&events.events)
+        .filter(|(_, e)| e.explained_by.is_none())
+        .map(|(s, _)| s)
+        .peekable();
+    if outside.peek().is_none() {
+        return Ok(None);
+    }
+    let p2 = without_events(sc.data, outside)?;
+    let (mean, var) = p2.null_moments(floor_var);
+    let again = evaluate(
+        &p2,
+        layouts,
+        sc.walks,
+        &NullDist::from_moments(mean, var),
+        cfg,
+    );
+    Ok((leader(&again) != leader(ranked)).then_some(again))
+}
+
+/// The verdict once the time-local events are known: an event no catalogue term explains is a
+/// gap the catalogue leaves (none -> unexplained, explained -> partly explained).
+pub(crate) fn with_events(
+    verdict: Verdict,
+    events: &EventScan,
+    notes: &mut Vec<String>,
+) -> Verdict {
+    let outside: Vec<&TimeLocalEvent> = events
+        .events
+        .iter()
+        .filter(|e| e.explained_by.is_none())
+        .collect();
+    if events.tests > 0 {
+        notes.push(format!(
+            "time-local scan: {} tests (steps, ramps, transients of {:?} s on six axes, every \
+             onset), Bonferroni threshold chi2 {:.1}; {} event(s), {} outside the catalogue",
+            events.tests,
+            events
+                .detectable
+                .iter()
+                .filter_map(|d| d.time_constant_s)
+                .fold(Vec::<f64>::new(), |mut v, t| {
+                    if !v.contains(&t) {
+                        v.push(t);
+                    }
+                    v
+                }),
+            events.threshold_chi2,
+            events.events.len(),
+            outside.len()
+        ));
+    }
+    if outside.is_empty() {
+        return verdict;
+    }
+    match verdict {
+        Verdict::NoSignificantGap => Verdict::Unexplained,
+        Verdict::Explained { by } => Verdict::PartlyExplained { by },
+        v => v,
+    }
+}
