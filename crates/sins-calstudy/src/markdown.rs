@@ -5,6 +5,8 @@
 use crate::format::{clean, decimals_for, fixed, sig, yes};
 use crate::montecarlo::Table1Study;
 use crate::study::Study;
+use sins_config::markdown::Align::{Center, Left, Right};
+use sins_config::markdown::Table;
 use std::fmt::Write;
 
 /// Render the Table 1 Monte Carlo alone (Table 1, consistency, observability): the sections of
@@ -82,31 +84,43 @@ fn table1(o: &mut String, t: &Table1Study) {
         "Estimate, residual and 1σ of the first seed ({}); then over the {n} seeds: median |error|, median 1σ, seeds with |error| ≤ 3σ; the paper's estimate and residual; whether our median is at or below it; and the residual of the same run without any noise (the method's own floor).\n",
         t.seeds[0]
     );
-    let _ = writeln!(
-        o,
-        "| coefficient | unit | preset | estimate | residual | 1σ | MC median \\|err\\| | MC median 1σ | ≤ 3σ | paper estimate | paper residual | ≤ paper | noise-free residual |"
-    );
-    let _ = writeln!(o, "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|:-:|--:|");
+    let mut table = Table::new([
+        "coefficient",
+        "unit",
+        "preset",
+        "estimate",
+        "residual",
+        "1σ",
+        "MC median |err|",
+        "MC median 1σ",
+        "≤ 3σ",
+        "paper estimate",
+        "paper residual",
+        "≤ paper",
+        "noise-free residual",
+    ])
+    .align(&[
+        Left, Left, Right, Right, Right, Right, Right, Right, Right, Right, Right, Center, Right,
+    ]);
     for e in &t.entries {
         let d = decimals_for(e.median_sigma.min(e.median_abs_error.max(1e-12)));
-        let _ = writeln!(
-            o,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {}/{n} | {} | {} | {} | {} |",
-            e.name,
-            e.unit,
+        table.row([
+            e.name.to_string(),
+            e.unit.to_string(),
             clean(e.truth),
             fixed(e.first_estimate, d),
             fixed(e.first_residual, d),
             fixed(e.first_sigma, d),
             fixed(e.median_abs_error, d),
             fixed(e.median_sigma, d),
-            e.seeds_within_3sigma,
-            e.paper_estimate,
-            e.paper_residual,
-            yes(e.at_or_below_paper),
-            sig(e.noise_free_residual, 2)
-        );
+            format!("{}/{n}", e.seeds_within_3sigma),
+            e.paper_estimate.to_string(),
+            e.paper_residual.to_string(),
+            yes(e.at_or_below_paper).to_string(),
+            sig(e.noise_free_residual, 2),
+        ]);
     }
+    o.push_str(&table.render());
     let _ = writeln!(
         o,
         "\n**{} of 33** coefficients have a Monte Carlo median |error| at or below the paper's residual ({} of 33 when our median is rounded to the paper's printed resolution). Without noise, {} of 33 residuals are at or below the paper's (rounded to its resolution): the gap is the sensor noise, not the method.\n",
@@ -122,11 +136,16 @@ fn table1(o: &mut String, t: &Table1Study) {
         o,
         "Coefficients above the paper's residual, with the sigma floor: the filter's own 1σ at this noise level against the paper's residual. Where σ exceeds it, no estimator with this noise can be expected to reach the paper's figure reliably; the noise was not lowered to get there.\n"
     );
-    let _ = writeln!(
-        o,
-        "| coefficient | unit | MC median \\|err\\| | MC median 1σ | paper residual | σ / paper | reason |"
-    );
-    let _ = writeln!(o, "|---|---|--:|--:|--:|--:|---|");
+    let mut table = Table::new([
+        "coefficient",
+        "unit",
+        "MC median |err|",
+        "MC median 1σ",
+        "paper residual",
+        "σ / paper",
+        "reason",
+    ])
+    .align(&[Left, Left, Right, Right, Right, Right, Left]);
     for e in misses {
         let d = decimals_for(e.median_sigma.min(e.paper_residual.max(1e-12)));
         let reason = if e.sigma_over_paper > 1.0 {
@@ -134,18 +153,17 @@ fn table1(o: &mut String, t: &Table1Study) {
         } else {
             "statistical (σ is below the paper's residual)"
         };
-        let _ = writeln!(
-            o,
-            "| {} | {} | {} | {} | {} | {} | {reason} |",
-            e.name,
-            e.unit,
+        table.row([
+            e.name.to_string(),
+            e.unit.to_string(),
             fixed(e.median_abs_error, d),
             fixed(e.median_sigma, d),
-            e.paper_residual,
-            sig(e.sigma_over_paper, 3)
-        );
+            e.paper_residual.to_string(),
+            sig(e.sigma_over_paper, 3),
+            reason.to_string(),
+        ]);
     }
-    let _ = writeln!(o);
+    let _ = writeln!(o, "{table}");
 }
 
 fn consistency(o: &mut String, t: &Table1Study) {
@@ -186,24 +204,28 @@ fn observability(o: &mut String, t: &Table1Study) {
         o,
         "Final over initial 1σ of each of the 42 states (first seed), the worst ratio over all seeds, and whether it fell at least tenfold in every seed.\n"
     );
-    let _ = writeln!(
-        o,
-        "| state | unit | initial σ | final σ | ratio | worst ratio | ≥ 10× |"
-    );
-    let _ = writeln!(o, "|---|---|--:|--:|--:|--:|:-:|");
+    let mut table = Table::new([
+        "state",
+        "unit",
+        "initial σ",
+        "final σ",
+        "ratio",
+        "worst ratio",
+        "≥ 10×",
+    ])
+    .align(&[Left, Left, Right, Right, Right, Right, Center]);
     for e in &t.observability {
-        let _ = writeln!(
-            o,
-            "| {} | {} | {} | {} | {} | {} | {} |",
-            e.name,
-            e.unit,
+        table.row([
+            e.name.to_string(),
+            e.unit.to_string(),
             sig(e.initial_sigma, 3),
             sig(e.final_sigma, 3),
             sig(e.ratio, 3),
             sig(e.worst_ratio, 3),
-            yes(e.fell_tenfold)
-        );
+            yes(e.fell_tenfold).to_string(),
+        ]);
     }
+    o.push_str(&table.render());
     let _ = writeln!(
         o,
         "\nEvery state fell at least tenfold: **{}**; the weakest is {} with a worst ratio of {} (a {}-fold reduction).\n",
@@ -227,31 +249,47 @@ fn thirty(o: &mut String, s: &Study) {
         "Truth at the reference temperature {} degC; mean accelerometer temperatures over the filter run {:.2} / {:.2} / {:.2} degC (x / y / z). The expected shift is T_coef · (T̄ − T_ref) with T̄ of the accelerometer that scales the coefficient; the effective temperature is T_ref + error / T_coef.\n",
         t.reference_temp_degc, m[0], m[1], m[2]
     );
-    let _ = writeln!(
-        o,
-        "| coefficient | unit | truth @ T_ref | 30-state estimate | error | 1σ | T coefficient | expected shift | effective T (degC) | 42-state error | 42-state 1σ |"
-    );
-    let _ = writeln!(o, "|---|---|--:|--:|--:|--:|---|--:|--:|--:|--:|");
+    let mut table = Table::new([
+        "coefficient",
+        "unit",
+        "truth @ T_ref",
+        "30-state estimate",
+        "error",
+        "1σ",
+        "T coefficient",
+        "expected shift",
+        "effective T (degC)",
+        "42-state error",
+        "42-state 1σ",
+    ])
+    .align(&[
+        Left, Left, Right, Right, Right, Right, Left, Right, Right, Right, Right,
+    ]);
     for e in &t.entries {
         let d = decimals_for(e.sigma_42.min(e.sigma_30));
-        let _ = writeln!(
-            o,
-            "| {} | {} | {} | {} | {} | {} | {} = {} | {} | {} ± {} | {} | {} |",
-            e.name,
-            e.unit,
+        table.row([
+            e.name.to_string(),
+            e.unit.to_string(),
             clean(e.truth_at_reference),
             fixed(e.estimate_30, d),
             fixed(e.error_30, d),
             fixed(e.sigma_30, d),
-            e.temperature_coefficient,
-            clean(e.temperature_coefficient_value),
+            format!(
+                "{} = {}",
+                e.temperature_coefficient,
+                clean(e.temperature_coefficient_value)
+            ),
             fixed(e.expected_shift, d),
-            fixed(e.effective_temp_degc, 1),
-            fixed(e.effective_temp_sigma_degc, 1),
+            format!(
+                "{} ± {}",
+                fixed(e.effective_temp_degc, 1),
+                fixed(e.effective_temp_sigma_degc, 1)
+            ),
             fixed(e.error_42, d),
-            fixed(e.sigma_42, d)
-        );
+            fixed(e.sigma_42, d),
+        ]);
     }
+    o.push_str(&table.render());
     let mean3 = (m[0] + m[1] + m[2]) / 3.0;
     let _ = writeln!(
         o,
@@ -266,26 +304,29 @@ fn thirty(o: &mut String, s: &Study) {
         "The gyro coefficients carry no temperature term, but the 30-state misfit pulls them as well (largest |error|/σ {}):\n",
         fixed(t.gyro_max_abs_z, 1)
     );
-    let _ = writeln!(
-        o,
-        "| coefficient | unit | 30-state error | 1σ | error/σ | 42-state error | 42-state 1σ |"
-    );
-    let _ = writeln!(o, "|---|---|--:|--:|--:|--:|--:|");
+    let mut table = Table::new([
+        "coefficient",
+        "unit",
+        "30-state error",
+        "1σ",
+        "error/σ",
+        "42-state error",
+        "42-state 1σ",
+    ])
+    .align(&[Left, Left, Right, Right, Right, Right, Right]);
     for g in &t.gyro {
         let d = decimals_for(g.sigma_30.min(g.sigma_42));
-        let _ = writeln!(
-            o,
-            "| {} | {} | {} | {} | {} | {} | {} |",
-            g.name,
-            g.unit,
+        table.row([
+            g.name.to_string(),
+            g.unit.to_string(),
             fixed(g.error_30, d),
             fixed(g.sigma_30, d),
             fixed(g.error_30 / g.sigma_30, 1),
             fixed(g.error_42, d),
-            fixed(g.sigma_42, d)
-        );
+            fixed(g.sigma_42, d),
+        ]);
     }
-    let _ = writeln!(o);
+    let _ = writeln!(o, "{table}");
 }
 
 fn timing(o: &mut String, s: &Study) {

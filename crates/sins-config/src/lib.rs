@@ -19,6 +19,7 @@
 //!   thresholds ([`load_thresholds`], TOML), the paper's Table 5 ([`load_table5`], CSV) and a
 //!   report's `summary.json` ([`read_summary`], [`summary_to_json`]), read into (or written from)
 //!   the types of `sins-harness`; their errors are `sins_harness::HarnessError`s.
+//! - **Markdown tables** for the reports of the crates above this one: [`markdown::Table`].
 //!
 //! Every error names the file, the key path (`motion.segment[3].duration_s`) and, for TOML, the
 //! line. The schema is documented in `experiments/README.md`.
@@ -35,6 +36,7 @@ mod exact;
 mod experiment;
 pub mod files;
 mod harness;
+pub mod markdown;
 mod motion;
 mod noise_table;
 mod params;

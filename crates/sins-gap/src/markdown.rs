@@ -2,6 +2,7 @@
 //! effect explains it, and how far it shrinks on withheld data.
 
 use crate::run::DiagnosisOutcome;
+use sins_config::markdown::Table;
 use sins_diag::report::{CandidateModel, Verdict};
 use std::fmt::Write as _;
 
@@ -17,6 +18,10 @@ fn g(v: f64, digits: usize) -> String {
     } else {
         format!("{v:.prec$e}", prec = digits.saturating_sub(1))
     }
+}
+
+fn yes_no(b: bool) -> &'static str {
+    if b { "yes" } else { "no" }
 }
 
 fn verdict_line(v: &Verdict) -> String {
@@ -45,20 +50,22 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
     let d = &o.diagnosis;
     let mut md = String::from("# Sim-to-real gap diagnosis\n\n");
     let _ = writeln!(md, "{}\n", verdict_line(&d.verdict));
-    let _ = writeln!(
-        md,
-        "## Inputs\n\n| run | dataset | length (h) | max horizontal error of the real replay (m) |\n|---|---|---|---|"
-    );
+    let mut t = Table::new([
+        "run",
+        "dataset",
+        "length (h)",
+        "max horizontal error of the real replay (m)",
+    ]);
     for r in &o.runs {
-        let _ = writeln!(
-            md,
-            "| {} | `{}` | {:.2} | {:.0} |",
-            r.name,
-            r.path.display(),
-            r.duration_h,
-            r.max_horizontal_m
-        );
+        t.row([
+            r.name.clone(),
+            format!("`{}`", r.path.display()),
+            format!("{:.2}", r.duration_h),
+            format!("{:.0}", r.max_horizontal_m),
+        ]);
     }
+    md.push_str("## Inputs\n\n");
+    md.push_str(&t.render());
     let _ = writeln!(
         md,
         "\nNull test of the twin over {} fit points: chi-square {:.1} against {:.1} expected, p = {} ({}).\n",
@@ -82,31 +89,34 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
             _ => "stays inside the twin's 3-sigma envelope".to_string(),
         };
         let _ = writeln!(md, "### {}\n\nThe gap {exit}.\n", l.run);
-        let _ = writeln!(
-            md,
-            "| segment | channel | max \\|gap\\| (m) | RMS (m) | max gap / sigma |\n|---|---|---|---|---|"
-        );
+        let mut t = Table::new([
+            "segment",
+            "channel",
+            "max |gap| (m)",
+            "RMS (m)",
+            "max gap / sigma",
+        ]);
         for g in &l.segments {
-            let _ = writeln!(
-                md,
-                "| {} | {} | {:.1} | {:.1} | {:.1} |",
-                g.segment, g.channel, g.max_abs_m, g.rms_m, g.max_sigmas
-            );
+            t.row([
+                g.segment.clone(),
+                g.channel.clone(),
+                format!("{:.1}", g.max_abs_m),
+                format!("{:.1}", g.rms_m),
+                format!("{:.1}", g.max_sigmas),
+            ]);
         }
+        md.push_str(&t.render());
         if !l.time_scales.is_empty() {
-            let _ = writeln!(
-                md,
-                "\nTime scales (share of the gap's energy):\n\n| channel | basis | share |\n|---|---|---|"
-            );
-            for t in &l.time_scales {
-                let _ = writeln!(
-                    md,
-                    "| {} | {} | {:.0} % |",
-                    t.channel,
-                    t.basis,
-                    100.0 * t.share
-                );
+            let mut t = Table::new(["channel", "basis", "share"]);
+            for s in &l.time_scales {
+                t.row([
+                    s.channel.clone(),
+                    s.basis.clone(),
+                    format!("{:.0} %", 100.0 * s.share),
+                ]);
             }
+            md.push_str("\nTime scales (share of the gap's energy):\n\n");
+            md.push_str(&t.render());
         }
         let _ = writeln!(md);
     }
@@ -118,10 +128,17 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
          improvement Δχ² − k ln n. A candidate passes when both are significant; the verdict also \
          requires the residual to be consistent.\n"
     );
-    let _ = writeln!(
-        md,
-        "| rank | effect | magnitude (± 1σ) | Δχ² | k | p | ΔBIC | passes | residual consistent |\n|---|---|---|---|---|---|---|---|---|"
-    );
+    let mut t = Table::new([
+        "rank",
+        "effect",
+        "magnitude (± 1σ)",
+        "Δχ²",
+        "k",
+        "p",
+        "ΔBIC",
+        "passes",
+        "residual consistent",
+    ]);
     for (i, c) in d.candidates.iter().enumerate() {
         let mags: Vec<String> = c
             .components
@@ -136,25 +153,24 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
             CandidateModel::Regression => "",
             CandidateModel::NoiseTerm => " (noise term)",
         };
-        let _ = writeln!(
-            md,
-            "| {} | `{}`{model} | {} {} | {:.1} | {} | {} | {:.1} | {} | {} |",
-            i + 1,
-            c.kind,
-            if mags.is_empty() {
-                "-".to_string()
-            } else {
-                mags.join(", ")
-            },
-            c.unit,
-            c.dchi2,
-            c.dof,
+        let mags = if mags.is_empty() {
+            "-".to_string()
+        } else {
+            mags.join(", ")
+        };
+        t.row([
+            (i + 1).to_string(),
+            format!("`{}`{model}", c.kind),
+            format!("{mags} {}", c.unit),
+            format!("{:.1}", c.dchi2),
+            c.dof.to_string(),
             g(c.p_value, 2),
-            c.delta_bic,
-            if c.passes { "yes" } else { "no" },
-            if c.residual.consistent { "yes" } else { "no" }
-        );
+            format!("{:.1}", c.delta_bic),
+            yes_no(c.passes).to_string(),
+            yes_no(c.residual.consistent).to_string(),
+        ]);
     }
+    md.push_str(&t.render());
     let walks: Vec<String> = d
         .candidates
         .iter()
@@ -232,28 +248,38 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
             "No validation: nothing was fitted, or there was a single run or segment.\n"
         );
     } else {
-        let _ = writeln!(
-            md,
-            "| effect | fitted on | evaluated on | max gap before (m) | after (m) | RMS gap before (m) | after (m) | systematic gap before | after | shrinkage (systematic / RMS / max) |\n|---|---|---|---|---|---|---|---|---|---|"
-        );
+        let mut t = Table::new([
+            "effect",
+            "fitted on",
+            "evaluated on",
+            "max gap before (m)",
+            "after (m)",
+            "RMS gap before (m)",
+            "after (m)",
+            "systematic gap before",
+            "after",
+            "shrinkage (systematic / RMS / max)",
+        ]);
         for v in &d.validation {
-            let _ = writeln!(
-                md,
-                "| `{}` | {} | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.0} % / {:.0} % / {:.0} % |",
-                v.kind,
-                v.fitted_on,
-                v.evaluated_on,
-                v.before.max_horizontal_gap_m,
-                v.after.max_horizontal_gap_m,
-                v.before.rms_gap_m,
-                v.after.rms_gap_m,
-                v.systematic_before,
-                v.systematic_after,
-                v.systematic_shrinkage_percent,
-                v.rms_shrinkage_percent,
-                v.max_shrinkage_percent
-            );
+            t.row([
+                format!("`{}`", v.kind),
+                v.fitted_on.to_string(),
+                v.evaluated_on.to_string(),
+                format!("{:.1}", v.before.max_horizontal_gap_m),
+                format!("{:.1}", v.after.max_horizontal_gap_m),
+                format!("{:.1}", v.before.rms_gap_m),
+                format!("{:.1}", v.after.rms_gap_m),
+                format!("{:.1}", v.systematic_before),
+                format!("{:.1}", v.systematic_after),
+                format!(
+                    "{:.0} % / {:.0} % / {:.0} %",
+                    v.systematic_shrinkage_percent,
+                    v.rms_shrinkage_percent,
+                    v.max_shrinkage_percent
+                ),
+            ]);
         }
+        md.push_str(&t.render());
         let _ = writeln!(
             md,
             "\nThe systematic gap is √max(0, χ² − E χ²) on the withheld run's fit points in the \

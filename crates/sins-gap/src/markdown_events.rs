@@ -1,6 +1,7 @@
 //! The time-local section of the diagnosis report: the events the scan found and the
 //! detectable size of a step through each run.
 
+use sins_config::markdown::Table;
 use sins_diag::events::EventScan;
 use std::fmt::Write as _;
 
@@ -24,26 +25,32 @@ pub fn render_events(scan: &EventScan) -> String {
     if scan.events.is_empty() {
         md.push_str("No event.\n");
     } else {
-        let _ = writeln!(
-            md,
-            "| run | channel | shape | onset ± 1σ (s) | size ± 1σ | τ (s) | χ² | p | explained by | not told from |\n|---|---|---|---|---|---|---|---|---|---|"
-        );
+        let mut t = Table::new([
+            "run",
+            "channel",
+            "shape",
+            "onset ± 1σ (s)",
+            "size ± 1σ",
+            "τ (s)",
+            "χ²",
+            "p",
+            "explained by",
+            "not told from",
+        ]);
         for e in &scan.events {
-            let _ = writeln!(
-                md,
-                "| {} | {} | {} | {:.0} ± {:.0} | {:.3e} ± {:.1e} {} | {} | {:.1} | {:.1e} | {} | {} |",
-                e.run,
-                e.channel,
-                e.shape,
-                e.onset_s,
-                e.onset_sigma_s,
-                e.size,
-                e.size_sigma,
-                e.unit,
+            t.row([
+                e.run.clone(),
+                e.channel.clone(),
+                e.shape.clone(),
+                format!("{:.0} ± {:.0}", e.onset_s, e.onset_sigma_s),
+                format!("{:.3e} ± {:.1e} {}", e.size, e.size_sigma, e.unit),
                 e.time_constant_s.map_or("-".into(), |t| format!("{t:.0}")),
-                e.chi2,
-                e.p_value,
-                e.explained_by.as_deref().unwrap_or("outside the catalogue"),
+                format!("{:.1}", e.chi2),
+                format!("{:.1e}", e.p_value),
+                e.explained_by
+                    .as_deref()
+                    .unwrap_or("outside the catalogue")
+                    .to_string(),
                 if e.alternatives.is_empty() {
                     "-".to_string()
                 } else {
@@ -53,8 +60,9 @@ pub fn render_events(scan: &EventScan) -> String {
                         .collect::<Vec<_>>()
                         .join(", ")
                 },
-            );
+            ]);
         }
+        md.push_str(&t.render());
     }
     let mut runs: Vec<&str> = scan.detectable.iter().map(|c| c.run.as_str()).collect();
     runs.dedup();
@@ -65,30 +73,20 @@ pub fn render_events(scan: &EventScan) -> String {
             .filter(|c| c.run == run && c.shape == "step")
             .collect();
         let Some(first) = steps.first() else { continue };
-        let _ = writeln!(
-            md,
-            "\nDetectable step in {run} (90 % power at the scan's level) by onset time (h):\n\n| channel | {} |\n|---|{}",
-            first
-                .onset_s
-                .iter()
-                .map(|t| format!("{:.1}", t / 3600.0))
-                .collect::<Vec<_>>()
-                .join(" | "),
-            "---|".repeat(first.onset_s.len())
+        let mut t = Table::new(
+            std::iter::once("channel".to_string())
+                .chain(first.onset_s.iter().map(|t| format!("{:.1}", t / 3600.0))),
         );
         for c in &steps {
-            let _ = writeln!(
-                md,
-                "| {} ({}) | {} |",
-                c.channel,
-                c.unit,
-                c.level
-                    .iter()
-                    .map(|v| format!("{v:.2e}"))
-                    .collect::<Vec<_>>()
-                    .join(" | ")
+            t.row(
+                std::iter::once(format!("{} ({})", c.channel, c.unit))
+                    .chain(c.level.iter().map(|v| format!("{v:.2e}"))),
             );
         }
+        let _ = write!(
+            md,
+            "\nDetectable step in {run} (90 % power at the scan's level) by onset time (h):\n\n{t}"
+        );
         let turn_on: Vec<_> = scan
             .detectable
             .iter()
@@ -99,28 +97,23 @@ pub fn render_events(scan: &EventScan) -> String {
         if taus.is_empty() {
             continue;
         }
-        let _ = writeln!(
-            md,
-            "\nDetectable turn-on transient in {run} (its value at turn-on) by time constant (s):\n\n| channel | {} |\n|---|{}",
-            taus.iter()
-                .map(|t| format!("{t:.0}"))
-                .collect::<Vec<_>>()
-                .join(" | "),
-            "---|".repeat(taus.len())
+        let mut t = Table::new(
+            std::iter::once("channel".to_string()).chain(taus.iter().map(|t| format!("{t:.0}"))),
         );
         for s in &steps {
-            let cells: Vec<String> = taus
-                .iter()
-                .map(|t| {
-                    turn_on
-                        .iter()
-                        .find(|c| c.channel == s.channel && c.time_constant_s == Some(*t))
-                        .and_then(|c| c.level.first())
-                        .map_or("-".into(), |v| format!("{v:.2e}"))
-                })
-                .collect();
-            let _ = writeln!(md, "| {} ({}) | {} |", s.channel, s.unit, cells.join(" | "));
+            let cells = taus.iter().map(|t| {
+                turn_on
+                    .iter()
+                    .find(|c| c.channel == s.channel && c.time_constant_s == Some(*t))
+                    .and_then(|c| c.level.first())
+                    .map_or("-".into(), |v| format!("{v:.2e}"))
+            });
+            t.row(std::iter::once(format!("{} ({})", s.channel, s.unit)).chain(cells));
         }
+        let _ = write!(
+            md,
+            "\nDetectable turn-on transient in {run} (its value at turn-on) by time constant (s):\n\n{t}"
+        );
     }
     md
 }

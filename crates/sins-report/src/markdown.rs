@@ -4,6 +4,7 @@
 use crate::names::{plot_file, rrd_file, track_file};
 use crate::run::ReportRun;
 use sins_config::coefficient_table;
+use sins_config::markdown::Table;
 use sins_harness::summary::ExperimentSummary;
 use std::fmt::Write as _;
 
@@ -57,10 +58,12 @@ pub fn render_markdown(run: &ReportRun) -> String {
     }
     param_sets(&mut md, run);
     differences(&mut md, run);
-    let _ = writeln!(md, "## Run time\n\n| step | wall time (s) |\n|---|---|");
+    let mut t = Table::new(["step", "wall time (s)"]);
     for (step, secs) in &run.timings {
-        let _ = writeln!(md, "| {step} | {secs:.1} |");
+        t.row([step.clone(), format!("{secs:.1}")]);
     }
+    md.push_str("## Run time\n\n");
+    md.push_str(&t.render());
     md
 }
 
@@ -68,16 +71,18 @@ fn table5(md: &mut String, run: &ReportRun) {
     let s = &run.summary;
     let _ = writeln!(md, "## Maximum horizontal error (the paper's Table 5)\n");
     let Some(c) = &s.comparison else {
-        let _ = writeln!(md, "| experiment | {} |", keys(run).join(" | "));
-        let _ = writeln!(md, "|---|{}", "---|".repeat(run.sets.len()));
+        let mut t = Table::new(std::iter::once("experiment").chain(keys(run)));
         for e in &s.experiments {
-            let cells: Vec<String> = keys(run)
-                .iter()
-                .map(|k| f(e.results.get(*k).map(|r| r.max_horizontal_nmi), 3))
-                .collect();
-            let _ = writeln!(md, "| {} | {} |", e.name, cells.join(" | "));
+            let mut cells = vec![e.name.clone()];
+            cells.extend(
+                keys(run)
+                    .iter()
+                    .map(|k| f(e.results.get(*k).map(|r| r.max_horizontal_nmi), 3)),
+            );
+            t.row(cells);
         }
-        let _ = writeln!(md);
+        md.push_str(&t.render());
+        md.push('\n');
         return;
     };
     let _ = writeln!(
@@ -86,27 +91,31 @@ fn table5(md: &mut String, run: &ReportRun) {
          parameter set `{}`, \"without\" is `{}`; improvement = (without - with) / without.\n",
         c.compensated, c.baseline
     );
-    let _ = writeln!(
-        md,
-        "| experiment | with temp. comp. (nmi) | without (nmi) | improvement | paper: with (nmi) | paper: without (nmi) | paper: improvement |\n|---|---|---|---|---|---|---|"
-    );
+    let mut t = Table::new([
+        "experiment",
+        "with temp. comp. (nmi)",
+        "without (nmi)",
+        "improvement",
+        "paper: with (nmi)",
+        "paper: without (nmi)",
+        "paper: improvement",
+    ]);
     for e in &s.experiments {
         let with = e.results.get(&c.compensated).map(|r| r.max_horizontal_nmi);
         let without = e.results.get(&c.baseline).map(|r| r.max_horizontal_nmi);
         let p = e.paper;
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {} % | {} | {} | {} % |",
-            e.name,
+        t.row([
+            e.name.clone(),
             f(with, 3),
             f(without, 3),
-            f(e.improvement_percent, 1),
+            format!("{} %", f(e.improvement_percent, 1)),
             f(p.map(|p| p.with_compensation_nmi), 2),
             f(p.map(|p| p.without_compensation_nmi), 2),
-            f(p.map(|p| p.improvement_percent), 1)
-        );
+            format!("{} %", f(p.map(|p| p.improvement_percent), 1)),
+        ]);
     }
-    let _ = writeln!(md);
+    md.push_str(&t.render());
+    md.push('\n');
 }
 
 fn keys(run: &ReportRun) -> Vec<&str> {
@@ -114,66 +123,69 @@ fn keys(run: &ReportRun) -> Vec<&str> {
 }
 
 fn where_and_when(md: &mut String, run: &ReportRun) {
-    let _ = writeln!(
-        md,
-        "## Where and when\n\n| experiment | set | max (nmi) | max (m) | at (h) | in segment | RMS (m) | final (m) |\n|---|---|---|---|---|---|---|---|"
-    );
+    let mut t = Table::new([
+        "experiment",
+        "set",
+        "max (nmi)",
+        "max (m)",
+        "at (h)",
+        "in segment",
+        "RMS (m)",
+        "final (m)",
+    ]);
     for e in &run.summary.experiments {
         for k in keys(run) {
             if let Some(r) = e.results.get(k) {
-                let _ = writeln!(
-                    md,
-                    "| {} | {k} | {:.3} | {:.0} | {:.2} | {} | {:.0} | {:.0} |",
-                    e.name,
-                    r.max_horizontal_nmi,
-                    r.max_horizontal_m,
-                    r.t_max_s / 3600.0,
-                    r.segment_at_max,
-                    r.rms_horizontal_m,
-                    r.final_horizontal_m
-                );
+                t.row([
+                    e.name.clone(),
+                    k.to_string(),
+                    format!("{:.3}", r.max_horizontal_nmi),
+                    format!("{:.0}", r.max_horizontal_m),
+                    format!("{:.2}", r.t_max_s / 3600.0),
+                    r.segment_at_max.clone(),
+                    format!("{:.0}", r.rms_horizontal_m),
+                    format!("{:.0}", r.final_horizontal_m),
+                ]);
             }
         }
     }
-    let _ = writeln!(md);
+    md.push_str("## Where and when\n\n");
+    md.push_str(&t.render());
+    md.push('\n');
 }
 
 fn segments(md: &mut String, run: &ReportRun) {
     let _ = writeln!(md, "## Per-segment maxima of the horizontal error (m)\n");
     for e in &run.summary.experiments {
         let _ = writeln!(md, "### {}\n", e.name);
-        let _ = writeln!(
-            md,
-            "| segment | from (h) | to (h) | {} |",
-            keys(run).join(" | ")
+        let mut t = Table::new(
+            ["segment", "from (h)", "to (h)"]
+                .into_iter()
+                .chain(keys(run)),
         );
-        let _ = writeln!(md, "|---|---|---|{}", "---|".repeat(run.sets.len()));
         let Some(first) = run.sets.first().and_then(|s| e.results.get(&s.key)) else {
+            md.push_str(&t.render());
             continue;
         };
         for (i, g) in first.segments.iter().enumerate() {
-            let cells: Vec<String> = keys(run)
-                .iter()
-                .map(|k| {
-                    f(
-                        e.results
-                            .get(*k)
-                            .and_then(|r| r.segments.get(i))
-                            .map(|g| g.max_horizontal_m),
-                        0,
-                    )
-                })
-                .collect();
-            let _ = writeln!(
-                md,
-                "| {} | {:.2} | {:.2} | {} |",
+            let mut cells = vec![
                 g.display_name(),
-                g.start_s / 3600.0,
-                g.end_s / 3600.0,
-                cells.join(" | ")
-            );
+                format!("{:.2}", g.start_s / 3600.0),
+                format!("{:.2}", g.end_s / 3600.0),
+            ];
+            cells.extend(keys(run).iter().map(|k| {
+                f(
+                    e.results
+                        .get(*k)
+                        .and_then(|r| r.segments.get(i))
+                        .map(|g| g.max_horizontal_m),
+                    0,
+                )
+            }));
+            t.row(cells);
         }
-        let _ = writeln!(md);
+        md.push_str(&t.render());
+        md.push('\n');
     }
 }
 
@@ -192,30 +204,32 @@ fn param_sets(md: &mut String, run: &ReportRun) {
         "Coefficients calibrated by this report (paper units, ± 1-sigma of the filter; written \
          beside this report as `params_<key>.toml`):\n"
     );
-    let head: Vec<String> = sets.iter().map(|s| format!("`{}`", s.key)).collect();
-    let _ = writeln!(md, "| coefficient | unit | {} |", head.join(" | "));
-    let _ = writeln!(md, "|---|---|{}", "---|".repeat(sets.len()));
+    let head = sets.iter().map(|s| format!("`{}`", s.key));
+    let mut t = Table::new(
+        ["coefficient".to_string(), "unit".to_string()]
+            .into_iter()
+            .chain(head),
+    );
     let widest = sets
         .iter()
         .max_by_key(|s| s.params.model.n_states())
         .map(|s| coefficient_table(&s.params))
         .unwrap_or_default();
     for (i, c) in widest.iter().enumerate() {
-        let cells: Vec<String> = sets
-            .iter()
-            .map(|s| {
-                let v = coefficient_table(&s.params);
-                let sig = s.sigma.as_ref().map(coefficient_table);
-                match (v.get(i), sig.as_ref().and_then(|t| t.get(i))) {
-                    (Some(v), Some(sg)) => format!("{:.4} ± {:.4}", v.value, sg.value),
-                    (Some(v), None) => format!("{:.4}", v.value),
-                    _ => "-".into(),
-                }
-            })
-            .collect();
-        let _ = writeln!(md, "| {} | {} | {} |", c.name, c.unit, cells.join(" | "));
+        let mut cells = vec![c.name.to_string(), c.unit.to_string()];
+        cells.extend(sets.iter().map(|s| {
+            let v = coefficient_table(&s.params);
+            let sig = s.sigma.as_ref().map(coefficient_table);
+            match (v.get(i), sig.as_ref().and_then(|t| t.get(i))) {
+                (Some(v), Some(sg)) => format!("{:.4} ± {:.4}", v.value, sg.value),
+                (Some(v), None) => format!("{:.4}", v.value),
+                _ => "-".into(),
+            }
+        }));
+        t.row(cells);
     }
-    let _ = writeln!(md);
+    md.push_str(&t.render());
+    md.push('\n');
 }
 
 fn differences(md: &mut String, run: &ReportRun) {

@@ -2,6 +2,7 @@
 //! global sensitivity, Table 2 against the replica's spread, the gap diagnosis and the declared
 //! assumptions.
 
+use sins_config::markdown::Table;
 use sins_uq::summary::UqSummary;
 use std::fmt::Write as _;
 
@@ -22,10 +23,15 @@ pub fn render_uq_markdown(s: &UqSummary) -> String {
         o,
         "\nBootstrap standard errors of the quantiles (5 % / 50 % / 95 %):\n"
     );
-    let _ = writeln!(
-        o,
-        "| cell | se 5 % | se median | se 95 % | u_input | u_num | u_D |\n|---|---|---|---|---|---|---|"
-    );
+    let mut t = Table::new([
+        "cell",
+        "se 5 %",
+        "se median",
+        "se 95 %",
+        "u_input",
+        "u_num",
+        "u_D",
+    ]);
     for c in &s.cells {
         let (ui, un, ud) = c
             .validation
@@ -34,30 +40,32 @@ pub fn render_uq_markdown(s: &UqSummary) -> String {
                 (v.u_input, v.u_num, v.u_d)
             });
         let [a, b, d] = c.bootstrap_se;
-        let _ = writeln!(
-            o,
-            "| {} | {a:.3} | {b:.3} | {d:.3} | {ui:.3} | {un:.4} | {ud:.3} |",
-            c.cell
-        );
+        t.row([
+            c.cell.clone(),
+            format!("{a:.3}"),
+            format!("{b:.3}"),
+            format!("{d:.3}"),
+            format!("{ui:.3}"),
+            format!("{un:.4}"),
+            format!("{ud:.3}"),
+        ]);
     }
+    o.push_str(&t.render());
     by_level(&mut o, s);
     sensitivity(&mut o, s);
     table2(&mut o, s);
     gap(&mut o, s);
-    let _ = writeln!(
-        o,
-        "\n## Declared assumptions\n\n| assumption | group | distribution | justification |\n|---|---|---|---|"
-    );
+    let mut t = Table::new(["assumption", "group", "distribution", "justification"]);
     for a in &s.assumptions {
-        let _ = writeln!(
-            o,
-            "| {} | {} | {} | {} |",
-            a.name,
-            a.group,
-            a.distribution,
-            a.justification.replace('|', "/")
-        );
+        t.row([
+            a.name.clone(),
+            a.group.clone(),
+            a.distribution.clone(),
+            a.justification.replace('|', "/"),
+        ]);
     }
+    o.push_str("\n## Declared assumptions\n\n");
+    o.push_str(&t.render());
     o
 }
 
@@ -72,19 +80,25 @@ fn by_level(o: &mut String, s: &UqSummary) {
          median lies between the modes (hence the large bootstrap error above); per level:\n",
         sins_uq::summary::DOMINANT_INDEX
     );
-    let _ = writeln!(
-        o,
-        "| cell | assumption = level | samples | median (se) | 5-95 % |\n|---|---|---|---|---|"
-    );
+    let mut t = Table::new([
+        "cell",
+        "assumption = level",
+        "samples",
+        "median (se)",
+        "5-95 %",
+    ]);
     for c in &s.cells {
         for l in &c.by_level {
-            let _ = writeln!(
-                o,
-                "| {} | {} = {} | {} | {:.2} ({:.2}) | {:.2} - {:.2} |",
-                c.cell, l.assumption, l.level, l.samples, l.median, l.median_se, l.p05, l.p95
-            );
+            t.row([
+                c.cell.clone(),
+                format!("{} = {}", l.assumption, l.level),
+                l.samples.to_string(),
+                format!("{:.2} ({:.2})", l.median, l.median_se),
+                format!("{:.2} - {:.2}", l.p05, l.p95),
+            ]);
         }
     }
+    o.push_str(&t.render());
 }
 
 fn sensitivity(o: &mut String, s: &UqSummary) {
@@ -101,10 +115,11 @@ fn sensitivity(o: &mut String, s: &UqSummary) {
         sins_uq::summary::PERMUTATIONS,
         sins_uq::summary::FDR
     );
-    let _ = writeln!(
-        o,
-        "| cell | sum of first order | leading assumptions: index [5 %, 95 %] p |\n|---|---|---|"
-    );
+    let mut t = Table::new([
+        "cell",
+        "sum of first order",
+        "leading assumptions: index [5 %, 95 %] p",
+    ]);
     for c in &s.cells {
         let Some(sens) = &c.sensitivity else { continue };
         let top: Vec<String> = sens
@@ -123,14 +138,13 @@ fn sensitivity(o: &mut String, s: &UqSummary) {
                 )
             })
             .collect();
-        let _ = writeln!(
-            o,
-            "| {} | {:.2} | {} |",
-            c.cell,
-            sens.sum_first_order,
-            top.join("; ")
-        );
+        t.row([
+            c.cell.clone(),
+            format!("{:.2}", sens.sum_first_order),
+            top.join("; "),
+        ]);
     }
+    o.push_str(&t.render());
     group_indices(o, s);
 }
 
@@ -152,27 +166,25 @@ fn group_indices(o: &mut String, s: &UqSummary) {
          interval says the design is too small for that group.\n",
         s.pick_freeze_samples
     );
-    let _ = writeln!(
-        o,
-        "| cell | group | first order [5 %, 95 %] | total [5 %, 95 %] |\n|---|---|---|---|"
-    );
+    let mut t = Table::new([
+        "cell",
+        "group",
+        "first order [5 %, 95 %]",
+        "total [5 %, 95 %]",
+    ]);
+    let interval = |v: [f64; 3]| format!("{:.2} [{:.2}, {:.2}]", v[0], v[1], v[2]);
     for c in &s.cells {
         let Some(sens) = &c.sensitivity else { continue };
         for g in &sens.groups {
-            let _ = writeln!(
-                o,
-                "| {} | {} | {:.2} [{:.2}, {:.2}] | {:.2} [{:.2}, {:.2}] |",
-                c.cell,
-                g.group,
-                g.first_order[0],
-                g.first_order[1],
-                g.first_order[2],
-                g.total[0],
-                g.total[1],
-                g.total[2]
-            );
+            t.row([
+                c.cell.clone(),
+                g.group.clone(),
+                interval(g.first_order),
+                interval(g.total),
+            ]);
         }
     }
+    o.push_str(&t.render());
 }
 
 fn table2(o: &mut String, s: &UqSummary) {
@@ -181,10 +193,13 @@ fn table2(o: &mut String, s: &UqSummary) {
         "\n## Table 2: repeatability of the calibration\n\nThe paper's STD over three real calibrations against the replica's spread of the \
          42-state estimate minus the truth over the main Monte Carlo (the same IMU class, noise and assumptions drawn).\n"
     );
-    let _ = writeln!(
-        o,
-        "| parameters | unit | paper STD | replica STD | replica / paper |\n|---|---|---|---|---|"
-    );
+    let mut t = Table::new([
+        "parameters",
+        "unit",
+        "paper STD",
+        "replica STD",
+        "replica / paper",
+    ]);
     for r in &s.table2 {
         let f = |v: &[f64]| {
             v.iter()
@@ -204,16 +219,15 @@ fn table2(o: &mut String, s: &UqSummary) {
                 }
             })
             .collect();
-        let _ = writeln!(
-            o,
-            "| {} | {} | {} | {} | {} |",
-            r.name,
-            r.unit,
+        t.row([
+            r.name.clone(),
+            r.unit.clone(),
             f(&r.paper),
             f(&r.replica),
-            ratio.join("/")
-        );
+            ratio.join("/"),
+        ]);
     }
+    o.push_str(&t.render());
 }
 
 fn sig3(v: f64) -> f64 {
@@ -235,25 +249,26 @@ fn gap(o: &mut String, s: &UqSummary) {
         g.choose_on.join(", ")
     );
     let cells: Vec<&str> = s.cells.iter().map(|c| c.cell.as_str()).collect();
-    let _ = writeln!(
-        o,
-        "| candidate | samples | ln p (choice) | ln p (withheld) | ln p (Table 2) | medians: {} |",
-        cells.join(" / ")
-    );
-    let _ = writeln!(o, "|---|---|---|---|---|---|");
+    let mut t = Table::new([
+        "candidate".to_string(),
+        "samples".to_string(),
+        "ln p (choice)".to_string(),
+        "ln p (withheld)".to_string(),
+        "ln p (Table 2)".to_string(),
+        format!("medians: {}", cells.join(" / ")),
+    ]);
     for c in &g.candidates {
         let med: Vec<String> = c.median.iter().map(|m| format!("{m:.2}")).collect();
-        let _ = writeln!(
-            o,
-            "| {} | {} | {:.2} | {:.2} | {:.1} | {} |",
-            c.name,
-            c.samples,
-            c.log_lik_choice,
-            c.log_lik_withheld,
-            c.log_lik_table2,
-            med.join(" / ")
-        );
+        t.row([
+            c.name.clone(),
+            c.samples.to_string(),
+            format!("{:.2}", c.log_lik_choice),
+            format!("{:.2}", c.log_lik_withheld),
+            format!("{:.1}", c.log_lik_table2),
+            med.join(" / "),
+        ]);
     }
+    o.push_str(&t.render());
     let _ = writeln!(
         o,
         "\n**Chosen: {}** (rank {} of {} on the withheld cells). Median shrinkage of the gap on the withheld cells: {:.0} %.\n",
@@ -262,19 +277,26 @@ fn gap(o: &mut String, s: &UqSummary) {
         g.candidates.len(),
         g.median_shrinkage_percent
     );
-    let _ = writeln!(
-        o,
-        "| withheld cell | paper | baseline ({}) | corrected ({}) | shrinkage |\n|---|---|---|---|---|",
-        g.candidates.first().map_or("", |c| c.name.as_str()),
-        g.chosen
-    );
+    let mut t = Table::new([
+        "withheld cell".to_string(),
+        "paper".to_string(),
+        format!(
+            "baseline ({})",
+            g.candidates.first().map_or("", |c| c.name.as_str())
+        ),
+        format!("corrected ({})", g.chosen),
+        "shrinkage".to_string(),
+    ]);
     for w in &g.withheld {
-        let _ = writeln!(
-            o,
-            "| {} | {:.2} | {:.2} | {:.2} | {:.0} % |",
-            w.cell, w.paper, w.baseline, w.corrected, w.shrinkage_percent
-        );
+        t.row([
+            w.cell.clone(),
+            format!("{:.2}", w.paper),
+            format!("{:.2}", w.baseline),
+            format!("{:.2}", w.corrected),
+            format!("{:.0} %", w.shrinkage_percent),
+        ]);
     }
+    o.push_str(&t.render());
 }
 
 /// A short text of the per-cell interval and verdict for `report.md` (used by `report --uq`).
@@ -285,10 +307,16 @@ pub fn uq_table_for_report(s: &UqSummary) -> String {
         "## Table 5 as a prediction (replica-uq, {} samples, seed {})\n",
         s.samples, s.seed
     );
-    let _ = writeln!(
-        out,
-        "| cell | point | median | 5-95 % | paper | E = S - D | u_val | V&V 20 verdict |\n|---|---|---|---|---|---|---|---|"
-    );
+    let mut t = Table::new([
+        "cell",
+        "point",
+        "median",
+        "5-95 %",
+        "paper",
+        "E = S - D",
+        "u_val",
+        "V&V 20 verdict",
+    ]);
     for c in &s.cells {
         let (d, e, u, verdict) = match &c.validation {
             Some(v) => (
@@ -299,11 +327,17 @@ pub fn uq_table_for_report(s: &UqSummary) -> String {
             ),
             None => ("-".into(), "-".into(), "-".into(), "-".into()),
         };
-        let _ = writeln!(
-            out,
-            "| {} | {:.2} | {:.2} | {:.2} - {:.2} | {d} | {e} | {u} | {verdict} |",
-            c.cell, c.point, c.median, c.p05, c.p95
-        );
+        t.row([
+            c.cell.clone(),
+            format!("{:.2}", c.point),
+            format!("{:.2}", c.median),
+            format!("{:.2} - {:.2}", c.p05, c.p95),
+            d,
+            e,
+            u,
+            verdict,
+        ]);
     }
+    out.push_str(&t.render());
     out
 }

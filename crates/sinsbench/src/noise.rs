@@ -4,6 +4,7 @@
 
 use crate::out::{note, say};
 use anyhow::Result;
+use sins_config::markdown::Table;
 use sins_config::units::{DEG_PER_SQRT_H, UG_PER_SQRT_HZ};
 use sins_nav::{ARCSEC, DEG_PER_H, UG};
 use sins_noiseid::{Estimate, IdentifiedNoise, SensorNoise};
@@ -127,48 +128,61 @@ pub(crate) fn one_line(id: &IdentifiedNoise) -> String {
 fn markdown(id: &IdentifiedNoise, datasets: &[(String, PathBuf)], seconds: f64) -> String {
     let mut md = String::from("# Sensor noise identified from stationary data\n\n");
     md.push_str("Overlapping Allan deviation (IEEE Std 952/1554) of every stationary stretch, pooled over stretches and runs; weighted (generalised) least-squares fit of the twin's terms; 1-sigma from the fit. `allan.png`: data with 68 % chi-square intervals, dashed the triad's fitted model.\n\n");
-    md.push_str("| term | triad (pooled) | x | y | z |\n|---|---|---|---|---|\n");
     let pooled = rows(&id.gyro, &id.accel);
     let axes: Vec<Vec<(String, String)>> = (0..3)
         .filter_map(|a| Some(rows(id.gyro_axes.get(a)?, id.accel_axes.get(a)?)))
         .collect();
+    let mut terms = Table::new(["term", "triad (pooled)", "x", "y", "z"]);
     for (k, (term, v)) in pooled.iter().enumerate() {
-        let ax: Vec<String> = axes
-            .iter()
-            .map(|r| r.get(k).map_or(String::new(), |x| x.1.clone()))
-            .collect();
-        md.push_str(&format!("| {term} | {v} | {} |\n", ax.join(" | ")));
+        let mut cells = vec![term.clone(), v.clone()];
+        // One cell per axis, empty where an axis was not identified.
+        cells.extend((0..3).map(|a| {
+            axes.get(a)
+                .and_then(|r| r.get(k))
+                .map_or(String::new(), |x| x.1.clone())
+        }));
+        terms.row(cells);
     }
-    md.push_str("\n## Data\n\n| run | file | stationary [h] | stretches | too short |\n|---|---|---|---|---|\n");
+    md.push_str(&terms.render());
+    let mut data = Table::new(["run", "file", "stationary [h]", "stretches", "too short"]);
     for r in &id.runs {
         let file = datasets
             .iter()
             .find(|(n, _)| n == &r.name)
             .map_or(String::new(), |(_, p)| p.display().to_string());
-        md.push_str(&format!(
-            "| {} | {file} | {:.2} | {} | {} |\n",
-            r.name,
-            r.stationary_s / 3600.0,
-            r.stretches,
-            r.skipped
-        ));
+        data.row([
+            r.name.clone(),
+            file,
+            format!("{:.2}", r.stationary_s / 3600.0),
+            r.stretches.to_string(),
+            r.skipped.to_string(),
+        ]);
     }
-    md.push_str("\nStretch means against the Earth rate and gravity at the site (TRIAD attitude of the stretch itself; the observable part of the turn-on bias):\n\n| run | start [s] | length [s] | gyro - Earth rate [deg/h] x, y, z | accel - (-g) [ug] x, y, z |\n|---|---|---|---|---|\n");
+    md.push_str("\n## Data\n\n");
+    md.push_str(&data.render());
+    let mut means = Table::new([
+        "run",
+        "start [s]",
+        "length [s]",
+        "gyro - Earth rate [deg/h] x, y, z",
+        "accel - (-g) [ug] x, y, z",
+    ]);
     for s in &id.stretches {
         let f = |v: Option<[f64; 3]>, u: f64| {
             v.map_or("(alignment failed)".into(), |v| {
                 format!("{:.4}, {:.4}, {:.4}", v[0] / u, v[1] / u, v[2] / u)
             })
         };
-        md.push_str(&format!(
-            "| {} | {:.0} | {:.0} | {} | {} |\n",
-            s.run,
-            s.start_s,
-            s.duration_s,
+        means.row([
+            s.run.clone(),
+            format!("{:.0}", s.start_s),
+            format!("{:.0}", s.duration_s),
             f(s.gyro_residual_radps, DEG_PER_H),
-            f(s.accel_residual_mps2, UG)
-        ));
+            f(s.accel_residual_mps2, UG),
+        ]);
     }
+    md.push_str("\nStretch means against the Earth rate and gravity at the site (TRIAD attitude of the stretch itself; the observable part of the turn-on bias):\n\n");
+    md.push_str(&means.render());
     if !id.notes.is_empty() {
         md.push_str("\n## Notes\n\n");
         for n in &id.notes {

@@ -7,6 +7,8 @@ use crate::spec::{Campaign, Kind};
 use crate::work::{Quiet, Work, from_values, job_error, pretty, to_value, write_text};
 use serde::Serialize;
 use sins_config::load_report_config;
+use sins_config::markdown::Align::{Left, Right};
+use sins_config::markdown::Table;
 use sins_harness::config::ReportConfig;
 use sins_harness::summary::Summary;
 use std::fmt::Write as _;
@@ -101,26 +103,33 @@ impl Work for ReportsWork {
 
 /// One row per report, experiment and parameter set: maximum horizontal error and where.
 fn markdown(summaries: &[Summary]) -> String {
-    let mut o = String::from(
-        "# Reports campaign\n\nEvery report's own directory is `reports/<name>/`.\n\n| report | experiment | parameter set | max horizontal (nmi) | at (h) | segment | improvement (%) |\n|---|---|---|--:|--:|---|--:|\n",
-    );
+    let mut t = Table::new([
+        "report",
+        "experiment",
+        "parameter set",
+        "max horizontal (nmi)",
+        "at (h)",
+        "segment",
+        "improvement (%)",
+    ])
+    .align(&[Left, Left, Left, Right, Right, Left, Right]);
     for s in summaries {
         for e in &s.experiments {
             let imp = e
                 .improvement_percent
                 .map_or_else(|| "-".into(), |v| format!("{v:.1}"));
             for (key, r) in &e.results {
-                let _ = writeln!(
-                    o,
-                    "| {} | {} | {key} | {:.3} | {:.2} | {} | {imp} |",
-                    s.name,
-                    e.name,
-                    r.max_horizontal_nmi,
-                    r.t_max_s / 3600.0,
-                    r.segment_at_max
-                );
+                t.row([
+                    s.name.clone(),
+                    e.name.clone(),
+                    key.clone(),
+                    format!("{:.3}", r.max_horizontal_nmi),
+                    format!("{:.2}", r.t_max_s / 3600.0),
+                    r.segment_at_max.clone(),
+                    imp.clone(),
+                ]);
             }
         }
     }
-    o
+    format!("# Reports campaign\n\nEvery report's own directory is `reports/<name>/`.\n\n{t}")
 }

@@ -3,6 +3,7 @@
 use super::plan::CaseAnswer;
 use super::time_local::{self, TimeLocalGrade};
 use serde::Serialize;
+use sins_config::markdown::Table;
 use sins_diag::report::{Diagnosis, Verdict};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -254,7 +255,7 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
         md,
         "Manifests sealed before the diagnoses ran: suite SHA-256 `{suite_sha256}`; every manifest matched its sealed hash when opened.\n"
     );
-    let _ = writeln!(md, "| figure | result | target |\n|---|---|---|");
+    let mut t = Table::new(["figure", "result", "target"]);
     for (figure, counts, target) in [
         (
             "top-1 identification, in-catalogue cases above the detectable level",
@@ -278,16 +279,19 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
             "all",
         ),
     ] {
-        let _ = writeln!(md, "| {figure} | {} | {target} |", frac(counts));
+        t.row([figure.to_string(), frac(counts), target.to_string()]);
     }
-    let _ = writeln!(
-        md,
-        "| median gap shrinkage on withheld runs, systematic (RMS) | {} ({}) | ≥ 80 % |\n",
-        g.median_shrinkage_percent
-            .map_or("-".into(), |v| format!("{v:.0} %")),
-        g.median_rms_shrinkage_percent
-            .map_or("-".into(), |v| format!("{v:.0} %"))
-    );
+    let percent = |v: Option<f64>| v.map_or("-".into(), |v| format!("{v:.0} %"));
+    t.row([
+        "median gap shrinkage on withheld runs, systematic (RMS)".to_string(),
+        format!(
+            "{} ({})",
+            percent(g.median_shrinkage_percent),
+            percent(g.median_rms_shrinkage_percent)
+        ),
+        "≥ 80 %".to_string(),
+    ]);
+    let _ = writeln!(md, "{t}");
     let _ = writeln!(
         md,
         "Shrinkage is counted where the hidden effect was named. The systematic gap is \
@@ -309,26 +313,33 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
         md,
         "## Confusion table (rows: hidden effect; columns: diagnosis)\n"
     );
-    let _ = writeln!(md, "| hidden \\ reported | {} |", cols.join(" | "));
-    let _ = writeln!(md, "|---|{}", "---|".repeat(cols.len()));
+    let mut t =
+        Table::new(std::iter::once("hidden \\ reported").chain(cols.iter().map(String::as_str)));
     for (row, counts) in &g.confusion {
-        let cells: Vec<String> = cols
+        let cells = cols
             .iter()
-            .map(|c| counts.get(c).map_or(String::new(), |n| n.to_string()))
-            .collect();
-        let _ = writeln!(md, "| {row} | {} |", cells.join(" | "));
+            .map(|c| counts.get(c).map_or(String::new(), |n| n.to_string()));
+        t.row(std::iter::once(row.clone()).chain(cells));
     }
-    let _ = writeln!(
-        md,
-        "\n## Detectable level per effect (median over its cases, paper unit)\n\n| effect | detectable magnitude |\n|---|---|"
-    );
+    md.push_str(&t.render());
+    let mut t = Table::new(["effect", "detectable magnitude"]);
     for (k, v) in &g.detectable_by_kind {
-        let _ = writeln!(md, "| {k} | {v:.3e} |");
+        t.row([k.clone(), format!("{v:.3e}")]);
     }
-    let _ = writeln!(
+    let _ = write!(
         md,
-        "\n## Cases\n\n| case | hidden | magnitude (× typical) | detectable | diagnosis | fitted ± 1σ | within 3σ | shrinkage, systematic (RMS) |\n|---|---|---|---|---|---|---|---|"
+        "\n## Detectable level per effect (median over its cases, paper unit)\n\n{t}"
     );
+    let mut t = Table::new([
+        "case",
+        "hidden",
+        "magnitude (× typical)",
+        "detectable",
+        "diagnosis",
+        "fitted ± 1σ",
+        "within 3σ",
+        "shrinkage, systematic (RMS)",
+    ]);
     for c in &g.cases {
         let (hidden, mag) = match &c.answer.hidden {
             Some(h) => (
@@ -342,22 +353,24 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
             ),
             None => ("none".into(), "-".into()),
         };
-        let _ = writeln!(
-            md,
-            "| {} | {hidden} | {mag} | {} | {} | {} | {} | {} |",
-            c.answer.case,
+        t.row([
+            c.answer.case.clone(),
+            hidden,
+            mag,
             c.detectable.map_or("-".into(), |v| format!("{v:.2e}")),
-            c.outcome,
+            c.outcome.clone(),
             c.fitted
                 .map_or("-".into(), |(v, s)| format!("{v:.3e} ± {s:.1e}")),
             c.within_3_sigma
-                .map_or("-", |b| if b { "yes" } else { "no" }),
+                .map_or("-", |b| if b { "yes" } else { "no" })
+                .to_string(),
             match (c.shrinkage_percent, c.rms_shrinkage_percent) {
                 (Some(s), Some(r)) => format!("{s:.0} % ({r:.0} %)"),
                 _ => "-".into(),
-            }
-        );
+            },
+        ]);
     }
+    let _ = write!(md, "\n## Cases\n\n{t}");
     let rows: Vec<(&CaseAnswer, &TimeLocalGrade)> = g
         .cases
         .iter()

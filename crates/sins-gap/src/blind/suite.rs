@@ -7,6 +7,7 @@ use super::seal::{SealIndex, open, seal};
 use crate::GapError;
 use crate::run::{DiagnoseRequest, diagnose_datasets};
 use sins_config::load_experiment;
+use sins_config::markdown::Table;
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::noise::NoiseSpec;
 use sins_diag::report::Diagnosis;
@@ -267,15 +268,15 @@ pub fn grade_suite(
 
 /// The per-case timing as a Markdown table.
 pub fn timing_markdown(timing: &[CaseTiming]) -> String {
-    let mut md =
-        String::from("\n## Time per case (s)\n\n| case | generate | diagnose |\n|---|---|---|\n");
+    let mut table = Table::new(["case", "generate", "diagnose"]);
     for t in timing {
-        md.push_str(&format!(
-            "| {} | {:.1} | {:.1} |\n",
-            t.case, t.generate_s, t.diagnose_s
-        ));
+        table.row([
+            t.case.clone(),
+            format!("{:.1}", t.generate_s),
+            format!("{:.1}", t.diagnose_s),
+        ]);
     }
-    md
+    format!("\n## Time per case (s)\n\n{table}")
 }
 
 /// Run the suite: draw and seal, generate and diagnose every case, open and grade.

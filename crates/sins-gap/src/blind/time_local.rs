@@ -4,11 +4,11 @@
 
 use super::plan::{CaseAnswer, HiddenEffect};
 use serde::Serialize;
+use sins_config::markdown::Table;
 use sins_diag::events::{DetectableCurve, TimeLocalEvent};
 use sins_diag::report::Diagnosis;
 use sins_imu::EffectKind;
 use sins_imu::effects::Sensor;
-use std::fmt::Write as _;
 
 /// The grade of one time-local case.
 #[derive(Clone, Debug, Serialize)]
@@ -130,70 +130,74 @@ pub fn render(
     false_alarms: (usize, usize),
     frac: fn((usize, usize)) -> String,
 ) -> String {
-    let mut md = String::from("\n## Time-local effects (steps, ramps, transients)\n\n");
-    let _ = writeln!(md, "| figure | result | target |\n|---|---|---|");
-    let _ = writeln!(
-        md,
-        "| reported with the onset within 3 sigma, their channel named (as the event's or as one the data cannot tell from it), cases above the detectable level | {} | ≥ 90 % |",
-        frac(found)
-    );
-    let _ = writeln!(
-        md,
-        "| the same, their channel the event's own | {} | - |",
-        frac(on_channel)
-    );
-    let _ = writeln!(
-        md,
-        "| null cases with a time-local event outside the catalogue | {} | ≤ 1 in 10 |\n",
-        frac(false_alarms)
-    );
-    let _ = writeln!(
-        md,
-        "| case | hidden | run | onset (s) | size (× typical) | detectable | event | onset ± 1σ (s) | size ± 1σ | within 3σ |\n|---|---|---|---|---|---|---|---|---|---|"
-    );
+    let mut figures = Table::new(["figure", "result", "target"]);
+    figures
+        .row([
+            "reported with the onset within 3 sigma, their channel named (as the event's or as one \
+             the data cannot tell from it), cases above the detectable level"
+                .to_string(),
+            frac(found),
+            "≥ 90 %".to_string(),
+        ])
+        .row([
+            "the same, their channel the event's own".to_string(),
+            frac(on_channel),
+            "-".to_string(),
+        ])
+        .row([
+            "null cases with a time-local event outside the catalogue".to_string(),
+            frac(false_alarms),
+            "≤ 1 in 10".to_string(),
+        ]);
+    let mut t = Table::new([
+        "case",
+        "hidden",
+        "run",
+        "onset (s)",
+        "size (× typical)",
+        "detectable",
+        "event",
+        "onset ± 1σ (s)",
+        "size ± 1σ",
+        "within 3σ",
+    ]);
     for (a, g) in rows {
         let Some(h) = &a.hidden else { continue };
         let tau = h
             .time_constant_s
             .map_or(String::new(), |t| format!(", τ {t:.0} s"));
         let ev = g.event.as_ref();
-        let _ = writeln!(
-            md,
-            "| {} | {} {} {}{tau} | {} | {:.0} | {:.3e} {} ({:.1}×) | {} | {} | {} | {} | {} |",
-            a.case,
-            g.shape,
-            g.channel,
-            h.kind,
-            h.run.as_deref().unwrap_or("all"),
-            h.onset_time_s(),
-            h.magnitude,
-            h.unit,
-            h.times_typical,
+        t.row([
+            a.case.clone(),
+            format!("{} {} {}{tau}", g.shape, g.channel, h.kind),
+            h.run.as_deref().unwrap_or("all").to_string(),
+            format!("{:.0}", h.onset_time_s()),
+            format!("{:.3e} {} ({:.1}×)", h.magnitude, h.unit, h.times_typical),
             g.detectable.map_or("-".into(), |v| format!("{v:.2e}")),
-            ev.map_or("none".into(), |e| format!(
-                "{} {}{} in {}{}",
-                e.shape,
-                e.channel,
-                if g.as_alternative {
-                    format!(" (or {})", g.channel)
-                } else {
-                    String::new()
-                },
-                e.run,
-                e.explained_by
-                    .as_ref()
-                    .map_or(String::new(), |x| format!(" (explained by {x})"))
-            )),
-            ev.map_or("-".into(), |e| format!(
-                "{:.0} ± {:.0}",
-                e.onset_s, e.onset_sigma_s
-            )),
-            ev.map_or("-".into(), |e| format!(
-                "{:.3e} ± {:.1e}",
-                e.size, e.size_sigma
-            )),
-            if g.onset_within_3_sigma { "yes" } else { "no" },
-        );
+            ev.map_or("none".into(), |e| {
+                format!(
+                    "{} {}{} in {}{}",
+                    e.shape,
+                    e.channel,
+                    if g.as_alternative {
+                        format!(" (or {})", g.channel)
+                    } else {
+                        String::new()
+                    },
+                    e.run,
+                    e.explained_by
+                        .as_ref()
+                        .map_or(String::new(), |x| format!(" (explained by {x})"))
+                )
+            }),
+            ev.map_or("-".into(), |e| {
+                format!("{:.0} ± {:.0}", e.onset_s, e.onset_sigma_s)
+            }),
+            ev.map_or("-".into(), |e| {
+                format!("{:.3e} ± {:.1e}", e.size, e.size_sigma)
+            }),
+            if g.onset_within_3_sigma { "yes" } else { "no" }.to_string(),
+        ]);
     }
-    md
+    format!("\n## Time-local effects (steps, ramps, transients)\n\n{figures}\n{t}")
 }
