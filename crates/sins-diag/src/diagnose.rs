@@ -6,7 +6,7 @@
 
 use crate::calib::uncertainty;
 use crate::error::DiagError;
-use crate::gaps::{catalogue, gaps};
+use crate::gaps::{Catalogue, catalogue, gaps};
 use crate::input::{DiagnoseConfig, DiagnosisInput};
 use crate::localise::localise;
 use crate::problem::{Problem, RunFitData};
@@ -14,11 +14,11 @@ use crate::rank::{
     Evaluated, NullDist, TestContext, evaluate, finish_ranking, regression_evaluated, verdict,
 };
 use crate::refine::{RefineStart, Refinement, refine};
-use crate::report::Diagnosis;
+use crate::report::{ChiSquareTest, Diagnosis};
 use crate::sensitivity::RunSensitivity;
 use crate::timelocal::{ScanScope, leader, ranked_without_events, time_local_events, with_events};
 use crate::twin::{base_setup, calibration_absorption, sensitivities};
-use crate::unresolved::add_unresolved_walks;
+use crate::unresolved::{add_unresolved_walks, leader_contribution};
 use crate::winner::{WinnerScope, winner_constancy, winner_series};
 use sins_imu::EffectKind;
 
@@ -53,17 +53,33 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         notes.push("no calibration uncertainty given: calibration errors ignored".into());
     }
     // The gaps, the null test and the catalogue's ranking.
-    let (series, mut data) = gaps(input, &sens, pu.as_ref(), &cat.columns, cfg)?;
-    if let Some(u) = add_unresolved_walks(&mut data, &input.noise, cfg.null_alpha)? {
+    let (series, base_data) = gaps(input, &sens, pu.as_ref(), &cat.columns, cfg)?;
+    let floor_var = (cfg.floor_sigma_m.powi(2) - cfg.floor_expected_sigma_m.powi(2)).max(0.0);
+    let mut data = base_data;
+    let mut ranking = rank_catalogue(&data, &cat, floor_var, cfg)?;
+    // Slow noise an identification left open: fitted on the gap less the leading candidate's
+    // fit (a walk fitted on the gap alone absorbs part of a deterministic effect), and the
+    // catalogue ranked again with it in the twin.
+    let mut unresolved = None;
+    if input.noise.unresolved_walk_per_sqrt_s.is_some() {
+        let leader = leader_contribution(&ranking.ranked, &data);
+        let explained = leader.as_ref().map(|(_, e)| e.as_slice());
+        unresolved = add_unresolved_walks(&mut data, &input.noise, cfg.null_alpha, explained)?;
+        if let Some(u) = unresolved.as_mut() {
+            u.fitted_without = leader.map(|(kind, _)| kind);
+        }
+        ranking = rank_catalogue(&data, &cat, floor_var, cfg)?;
+    }
+    if let Some(u) = &unresolved {
         notes.push(u.note());
     }
-    let problem = Problem::new(&data.iter().collect::<Vec<_>>())?;
+    let Ranking {
+        problem,
+        dist,
+        null,
+        mut ranked,
+    } = ranking;
     let n = problem.gls.n;
-    let floor_var = (cfg.floor_sigma_m.powi(2) - cfg.floor_expected_sigma_m.powi(2)).max(0.0);
-    let (mean, var) = problem.null_moments(floor_var);
-    let dist = NullDist::from_moments(mean, var);
-    let null = dist.test(problem.gls.chi2(), 0, cfg.null_alpha);
-    let mut ranked = evaluate(&problem, &cat.layouts, &cat.walks, &dist, cfg);
     let ctx = TestContext::new(&problem, &cat.layouts, &cat.walks);
     // Refinement of the leaders.
     let stage = RefineStage {
@@ -235,4 +251,32 @@ fn refine_leaders(
         }
     }
     refinements
+}
+
+/// The fit problem of all runs, the null distribution of its chi-square, the null test and the
+/// catalogue evaluated and ranked on it.
+struct Ranking {
+    problem: Problem,
+    dist: NullDist,
+    null: ChiSquareTest,
+    ranked: Vec<Evaluated>,
+}
+
+fn rank_catalogue(
+    data: &[RunFitData],
+    cat: &Catalogue,
+    floor_var: f64,
+    cfg: &DiagnoseConfig,
+) -> Result<Ranking, DiagError> {
+    let problem = Problem::new(&data.iter().collect::<Vec<_>>())?;
+    let (mean, var) = problem.null_moments(floor_var);
+    let dist = NullDist::from_moments(mean, var);
+    let null = dist.test(problem.gls.chi2(), 0, cfg.null_alpha);
+    let ranked = evaluate(&problem, &cat.layouts, &cat.walks, &dist, cfg);
+    Ok(Ranking {
+        problem,
+        dist,
+        null,
+        ranked,
+    })
 }

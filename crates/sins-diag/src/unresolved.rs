@@ -8,16 +8,21 @@
 //! (often zero) is too narrow, and the walk candidate then "explains" what is only noise.
 //!
 //! When the noise was identified, [`NoiseSpec::unresolved_walk_per_sqrt_s`] holds the 95 %
-//! upper bound of the rate random walk of each triad. Each of the six bias axes in turn gets the
-//! walk intensity that maximises the likelihood of the navigation gap, clamped to that bound,
-//! and the walk's covariance `K² V Vᵀ` joins every run's twin covariance: the noise terms the
-//! stationary data leave open are estimated from the navigation data, inside the range the
-//! stationary data allow. A walk beyond the bound stays a candidate.
+//! upper bound of the rate random walk of each triad. The catalogue is ranked with the twin as
+//! identified; then each of the six bias axes in turn gets the walk intensity that maximises the
+//! likelihood of the navigation gap less the leading deterministic candidate's fit (a walk
+//! fitted on the gap alone would absorb part of a deterministic effect), clamped to that bound,
+//! and the walk's covariance `K² V Vᵀ` joins every run's twin covariance before the catalogue
+//! is ranked again: the noise terms the stationary data leave open are estimated from the
+//! navigation data, inside the range the stationary data allow (one step of a coordinate ascent
+//! of the joint likelihood). A walk beyond the bound stays a candidate.
 
 use crate::error::DiagError;
 use crate::noise::NoiseSpec;
 use crate::problem::{Problem, RunFitData};
+use crate::rank::Evaluated;
 use crate::walk::fit_walk;
+use nalgebra::DVector;
 use sins_imu::EffectKind;
 use sins_imu::MagnitudeUnit;
 
@@ -31,21 +36,32 @@ pub struct UnresolvedWalks {
     pub bound_per_sqrt_s: [f64; 2],
     /// Axes whose fitted walk failed the whiteness test, with its p-value (nothing added).
     pub refused: Vec<(usize, f64)>,
+    /// The leading candidate whose fit was taken off the gap before the walks were fitted.
+    pub fitted_without: Option<String>,
 }
 
 /// Fit and add the unresolved walks to `data`'s twin covariances (nothing when the noise model
-/// was given rather than identified). A walk whose smoothed increments fail the whiteness test
-/// at `level` (an outlier increment, correlated neighbours, increments tied to turn-on: see
-/// [`crate::walk`]) is not noise: it is refused and left to the candidates and the time-local
-/// scan.
+/// was given rather than identified). The walks are fitted on the gap less `explained` (per
+/// run, on the fit grid: the leading candidate's fit, so that a deterministic effect is not
+/// taken for noise), or on the gap itself. A walk whose smoothed increments fail the whiteness
+/// test at `level` (an outlier increment, correlated neighbours, increments tied to turn-on:
+/// see [`crate::walk`]) is not noise: it is refused and left to the candidates and the
+/// time-local scan.
 pub(crate) fn add_unresolved_walks(
     data: &mut [RunFitData],
     noise: &NoiseSpec,
     level: f64,
+    explained: Option<&[DVector<f64>]>,
 ) -> Result<Option<UnresolvedWalks>, DiagError> {
     let Some(bound) = noise.unresolved_walk_per_sqrt_s else {
         return Ok(None);
     };
+    let mut fit_data = data.to_vec();
+    if let Some(e) = explained {
+        for (d, c) in fit_data.iter_mut().zip(e) {
+            d.gap -= c;
+        }
+    }
     let mut intensity = [0.0; 6];
     let mut refused = Vec::new();
     for (b, k_out) in intensity.iter_mut().enumerate() {
@@ -53,7 +69,7 @@ pub(crate) fn add_unresolved_walks(
         if !(k_max > 0.0 && k_max.is_finite()) {
             continue;
         }
-        let problem = Problem::new(&data.iter().collect::<Vec<_>>())?;
+        let problem = Problem::new(&fit_data.iter().collect::<Vec<_>>())?;
         let fit = fit_walk(&problem, &problem.walks[b], &problem.walk_blocks[b], k_max);
         if let Some(shape) = fit.shape.filter(|s| s.p_value <= level) {
             refused.push((b, shape.p_value));
@@ -61,7 +77,7 @@ pub(crate) fn add_unresolved_walks(
         }
         let k = fit.intensity.min(k_max);
         if k > 0.0 {
-            for d in data.iter_mut() {
+            for d in data.iter_mut().chain(fit_data.iter_mut()) {
                 let v = &d.walks[b];
                 d.cov += v * v.transpose() * (k * k);
             }
@@ -72,7 +88,29 @@ pub(crate) fn add_unresolved_walks(
         intensity_per_sqrt_s: intensity,
         bound_per_sqrt_s: bound,
         refused,
+        fitted_without: None,
     }))
+}
+
+/// The fitted contribution of the leading candidate when it is a passing deterministic one
+/// (per run, on the fit grid, m).
+pub(crate) fn leader_contribution(
+    ranked: &[Evaluated],
+    data: &[RunFitData],
+) -> Option<(String, Vec<DVector<f64>>)> {
+    let leader = ranked.first().filter(|e| e.report.passes)?;
+    let (l, rf) = leader.regression.as_ref()?;
+    let contributions = data
+        .iter()
+        .map(|fd| {
+            let mut c = DVector::zeros(fd.gap.len());
+            for (i, &k) in rf.retained.iter().enumerate() {
+                c.axpy(rf.fit.theta[i], &fd.columns.column(l.first + k), 1.0);
+            }
+            c
+        })
+        .collect();
+    Some((l.kind.name().to_string(), contributions))
 }
 
 impl UnresolvedWalks {
@@ -100,6 +138,11 @@ impl UnresolvedWalks {
             list(&self.intensity_per_sqrt_s[3..], &accel),
             accel.label,
         );
+        if let Some(kind) = &self.fitted_without {
+            line.push_str(&format!(
+                " (fitted on the gap less the leading candidate's fit, {kind})"
+            ));
+        }
         for (b, p) in &self.refused {
             line.push_str(&format!(
                 "; {} {}: refused, its increments do not look like a walk's (p = {p:.1e})",
@@ -116,7 +159,7 @@ mod tests {
     use super::*;
     use crate::noise::BiasProcess;
     use crate::stats::test_normals;
-    use nalgebra::{DMatrix, DVector};
+    use nalgebra::DMatrix;
 
     const POINTS: usize = 300;
     const LUMP: usize = 5;
@@ -178,7 +221,7 @@ mod tests {
     fn a_walk_within_the_bound_is_fitted_and_joins_the_twin() {
         let k_true = 0.5;
         let mut data = runs(k_true, 0.0, 3);
-        let u = add_unresolved_walks(&mut data, &noise(Some([10.0, 0.0])), 1e-3)
+        let u = add_unresolved_walks(&mut data, &noise(Some([10.0, 0.0])), 1e-3, None)
             .expect("fit")
             .expect("identified noise");
         // 120 unit increments: the intensity's relative 1-sigma is about 1/sqrt(2 * 120).
@@ -199,13 +242,13 @@ mod tests {
     #[test]
     fn the_walk_is_held_to_the_bound_and_absent_for_a_given_noise_model() {
         let mut data = runs(0.5, 0.0, 3);
-        let u = add_unresolved_walks(&mut data, &noise(Some([0.1, 0.0])), 1e-3)
+        let u = add_unresolved_walks(&mut data, &noise(Some([0.1, 0.0])), 1e-3, None)
             .expect("fit")
             .expect("identified noise");
         assert_eq!(u.intensity_per_sqrt_s[1], 0.1, "{u:?}");
         let mut given = runs(0.5, 0.0, 3);
         assert!(
-            add_unresolved_walks(&mut given, &noise(None), 1e-3)
+            add_unresolved_walks(&mut given, &noise(None), 1e-3, None)
                 .expect("fit")
                 .is_none()
         );
@@ -217,7 +260,7 @@ mod tests {
         // A 12-sigma step in one run and no walk: a free walk would absorb it; its one outlier
         // increment fails the whiteness test, so the twin is left as it was.
         let mut data = runs(0.0, 12.0, 5);
-        let u = add_unresolved_walks(&mut data, &noise(Some([100.0, 0.0])), 1e-3)
+        let u = add_unresolved_walks(&mut data, &noise(Some([100.0, 0.0])), 1e-3, None)
             .expect("fit")
             .expect("identified noise");
         assert!(
