@@ -8,7 +8,7 @@
 //! shortest decimal that converts back to the very same double. Together they make
 //! write-then-read bit exact for every finite SI value.
 
-use crate::bigint::Big;
+use num_bigint::BigUint;
 use std::cmp::Ordering;
 
 /// A positive unit factor that equals `mant · 2^pow2 · 10^pow10` exactly.
@@ -172,20 +172,21 @@ impl Decimal {
         let g = ga.min(gb);
         // mid = (ma·2^(ga-g) + mb·2^(gb-g)) · 2^(g-1); the shifts are 0 or 1.
         let m = ((ma as u128) << (ga - g)) + ((mb as u128) << (gb - g));
-        let mut left = Big::from_digits(&self.digits);
-        left.mul_u64(factor.mant);
-        let mut right = Big::from_u128(m);
+        let digits = BigUint::parse_bytes(&self.digits, 10).unwrap_or_default();
+        let mut left = digits * factor.mant;
+        let mut right = BigUint::from(m);
         let k10 = self.exp10 + factor.pow10;
+        let ten = BigUint::from(10u32);
         if k10 >= 0 {
-            left.mul_pow10(k10 as u32);
+            left *= ten.pow(k10.unsigned_abs());
         } else {
-            right.mul_pow10(k10.unsigned_abs());
+            right *= ten.pow(k10.unsigned_abs());
         }
         let (l2, r2) = (factor.pow2, g - 1);
         if l2 >= r2 {
-            left.shl((l2 - r2) as u32);
+            left <<= (l2 - r2) as usize;
         } else {
-            right.shl((r2 - l2) as u32);
+            right <<= (r2 - l2) as usize;
         }
         left.cmp(&right)
     }

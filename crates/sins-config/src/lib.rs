@@ -26,7 +26,6 @@
 
 #![warn(missing_docs)]
 
-mod bigint;
 mod coefficients;
 mod csv;
 mod ctx;
