@@ -59,11 +59,10 @@ pub fn render<E: std::fmt::Display>(e: &E) -> usize {
     e.to_string().len()
 }
 
-/// Run one input the way the CLI does. libfuzzer-sys makes every panic abort, even one the
-/// library catches on purpose (the Parquet reader turns a panic inside the third-party decoder
-/// into a "corrupt file" error with `catch_unwind`, which is what a user sees). Here a panic
-/// only records its message; a panic that escapes `body` is printed and aborts (a crash), one
-/// the library caught is not.
+/// Run one input the way the CLI does. libfuzzer-sys makes every panic abort, even one a
+/// library would catch (none does now: the Parquet reader checks what the third-party decoder
+/// would panic on before calling it). Here a panic only records its message; a panic that
+/// escapes `body` is printed and aborts (a crash), one caught inside is not.
 pub fn guard(body: impl FnOnce()) {
     use std::cell::RefCell;
     use std::sync::Once;

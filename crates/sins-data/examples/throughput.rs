@@ -7,6 +7,7 @@
 //!     [--dir DIR] [--segment] [--reference] [--csv] [--keep]
 //! cargo run --release -p sins-data --example throughput -- --read-file FILE [--no-recycle]
 //! ```
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
 
 use std::path::PathBuf;
 use std::time::Instant;

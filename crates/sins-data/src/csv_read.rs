@@ -15,7 +15,7 @@ use crate::error::{DataError, RowRef};
 use crate::layout::{Layout, resolve_layout};
 use crate::meta::{DatasetMeta, KEY_PREFIX};
 use crate::pq_batch::reuse;
-use crate::pq_read::MAX_BATCH_ROWS;
+use crate::schema::MAX_BATCH_ROWS;
 use crate::schema::{DatasetFormat, DatasetInfo, MAX_SEGMENT_LABELS, ReferenceRow, SampleBatch};
 use crate::validate::{ColumnLimit, TimeCheck, check_meta, column_limits, implausible, non_finite};
 

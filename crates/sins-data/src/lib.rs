@@ -20,18 +20,33 @@
 //! validate every row (finite values, `t_s` strictly increasing with steps of 1/rate within 1 %);
 //! every [`DataError`] names the file and, where it applies, the row, line, column or key.
 //!
+//! Parquet files are read and written with the Apache Arrow `parquet` crate's file API (no
+//! Arrow arrays in between). The writer ([`DatasetWriter`]) encodes and compresses one row group
+//! at a time on a background thread with `SerializedFileWriter`; the `segment` column chunk is
+//! encoded by this crate, so that its dictionary page holds the writer's exact label list. The
+//! reader ([`DatasetReader`]) checks the footer's Thrift encoding before `parquet` parses it and
+//! every page header before its column reader decodes the page, then decodes row group by row
+//! group, only the columns it needs, on a background thread one batch ahead of the consumer:
+//! memory stays at a few row groups whatever the file size, and a damaged file is a
+//! [`DataError`], never a panic. Files written by the earlier polars-parquet based writer read
+//! as before, and polars reads the files written now.
+//!
 //! Parquet layout, chosen by measurement on this project's 2-core VM with a synthetic
 //! 15 h / 200 Hz dataset (10.8 M rows, 10 Float64 columns = 864 MB raw; `examples/throughput.rs`):
 //! LZ4 (raw) pages, row groups of 2^16 rows (= one reader batch; throughput is flat from 2^15 to
-//! 2^18 rows, memory grows with it), plain encoding for floats, a dictionary for `segment`, no
-//! min/max statistics. Noisy IMU floats barely compress (LZ4 0.95,
-//! zstd-1 0.83 of raw) but constant-ish columns do (with the reference group, LZ4 halves the
-//! file); LZ4 decodes almost as fast as uncompressed (read ~0.35-0.5 s for the whole file)
-//! while zstd-1 takes ~1.5 s to read and ~2x the CPU to write. Writing costs ~0.6 s of CPU on the
-//! encoder thread (concurrent with the producer) plus the kernel's page-cache copy and the final
-//! fsync (an early-sync thread keeps the latter at ~0.2-0.3 s). Peak RSS: ~40 MB writing, ~25 MB
-//! reading. Use [`DatasetReader::next_batch_into`] (or [`DatasetReader::recycle`]) in replay
-//! loops to reuse batch buffers.
+//! 2^18 rows, memory grows with it), plain encoding for floats (one data page per column chunk),
+//! a dictionary for `segment` (uncompressed pages: a few bytes per row group), no statistics and
+//! no page index. Noisy IMU floats barely compress (LZ4 0.95, zstd-1 0.83 of raw) but
+//! constant-ish columns do (with the reference group, LZ4 halves the file); LZ4 decodes as fast
+//! as uncompressed while zstd-1 takes ~2.5x as long to read and ~2x the time to write. Measured
+//! with the file in the page cache (VM shared with other work): writing ~1.0 s besides
+//! generating the data (the early-sync thread keeps the final fsync at a few 10 ms), reading
+//! 0.35-0.42 s; the earlier polars-parquet based reader took 0.30-0.35 s, the difference being
+//! the `parquet` crate's LZ4 decoder (`lz4_flex`) and the buffers it zero-fills. Nearly constant
+//! columns (the reference group) decode slowly there, `lz4_flex` copying their long repeats byte
+//! by byte: with the segment and reference columns the 15 h file reads in ~1.3 s (before:
+//! ~0.65 s). Peak RSS: ~33 MB writing, ~36 MB reading. Use [`DatasetReader::next_batch_into`]
+//! (or [`DatasetReader::recycle`]) in replay loops to reuse batch buffers.
 
 #![warn(missing_docs)]
 
@@ -43,9 +58,12 @@ mod error;
 mod layout;
 mod meta;
 mod pq_batch;
-mod pq_decode;
+mod pq_column;
+mod pq_dict;
 mod pq_footer;
+mod pq_pages;
 mod pq_read;
+mod pq_segment;
 mod pq_write;
 mod reader;
 mod schema;
@@ -58,12 +76,12 @@ pub use meta::{
     DatasetMeta, KEY_DESCRIPTION, KEY_PREFIX, KEY_SAMPLE_RATE_HZ, KEY_SCHEMA_VERSION,
     KEY_SITE_HEIGHT_M, KEY_SITE_LATITUDE_DEG, KEY_SITE_LONGITUDE_DEG, SCHEMA_VERSION,
 };
-pub use pq_read::MAX_BATCH_ROWS;
 pub use pq_write::{Compression, DEFAULT_COMPRESSION, DEFAULT_ROW_GROUP_ROWS, ParquetWriteOptions};
 pub use reader::{DatasetReader, read_all};
 pub use schema::{
-    COL_T_S, ColumnSet, DatasetFormat, DatasetInfo, MAX_SEGMENT_LABELS, REFERENCE_COLUMNS,
-    REQUIRED_COLUMNS, ReferenceRow, SEGMENT_COLUMN, SampleBatch, TEMPERATURE_COLUMNS, WriteSummary,
+    COL_T_S, ColumnSet, DatasetFormat, DatasetInfo, MAX_BATCH_ROWS, MAX_SEGMENT_LABELS,
+    REFERENCE_COLUMNS, REQUIRED_COLUMNS, ReferenceRow, SEGMENT_COLUMN, SampleBatch,
+    TEMPERATURE_COLUMNS, WriteSummary,
 };
 pub use validate::STEP_TOLERANCE_FRACTION;
 pub use writer::DatasetWriter;

@@ -1,11 +1,18 @@
-//! A pre-check of a Parquet footer's Thrift (compact protocol) encoding before polars reads it:
-//! every list, set, map and binary must declare a length no larger than the bytes left in the
-//! footer. Every element takes at least one byte, so a valid footer always passes.
+//! A pre-check of a Parquet footer's Thrift (compact protocol) encoding before the `parquet`
+//! crate reads it: every list, set, map and binary must declare a length no larger than the
+//! bytes left in the footer. Every element takes at least one byte, so a valid footer always
+//! passes.
 //!
-//! Why: polars-parquet pre-sizes each list from its declared length (`Vec::with_capacity` in its
-//! hand-written Thrift reader), so a 2.7 KB file whose footer claims 2^31 key/value pairs makes
-//! `read_metadata` ask for about 100 GB, and the allocation failure aborts the process (no
-//! panic: `catch_unwind` cannot help). Fuzz finding `tests/data/fuzz/footer_list_length.parquet`.
+//! Why: the `parquet` crate (58) pre-sizes each list from its declared length
+//! (`Vec::with_capacity` in `read_thrift_vec` and for the row groups), so a 2.7 KB file whose
+//! footer claims 2^31 key/value pairs asks for about 100 GB, and the allocation failure aborts
+//! the process (no panic to catch). Its reader also dispatches on field ids alone and ignores the
+//! declared Thrift type, so the walk here must read exactly as it does: in every struct it reads
+//! by id (all those on the way from `FileMetaData` to a list, the logical-type and column-order
+//! unions included) a field must carry the type parquet.thrift gives its id, field ids wrap to
+//! 16 bits as there, and lists of booleans (which it skips as zero bytes) are refused. Fuzz
+//! findings (against polars-parquet, whose reader has the same habits):
+//! `tests/data/fuzz/footer_*.parquet`.
 
 use crate::DataError;
 use std::io::{Read, Seek, SeekFrom};
@@ -42,7 +49,7 @@ pub(crate) fn check_footer<F: Read + Seek>(
         .map_err(|reason| DataError::corrupt(path, reason))
 }
 
-/// The footer structs polars reads (parquet.thrift), whose fields it reads by id alone.
+/// The footer structs the `parquet` crate reads field by field (parquet.thrift).
 #[derive(Clone, Copy, Debug)]
 enum Known {
     FileMetaData,
@@ -55,7 +62,18 @@ enum Known {
     PageEncodingStats,
     Statistics,
     SizeStatistics,
-    /// Any other struct (unions such as LogicalType): walked by its declared types.
+    GeospatialStatistics,
+    BoundingBox,
+    LogicalType,
+    DecimalType,
+    TimestampType,
+    TimeUnit,
+    IntType,
+    VariantType,
+    GeometryType,
+    GeographyType,
+    ColumnOrder,
+    /// Any other struct (the empty ones of the unions, encryption): walked by declared types.
     Other,
 }
 
@@ -95,9 +113,9 @@ enum Field {
 }
 
 impl Known {
-    /// The format's type of field `id` (`None`: an id polars skips by its declared type).
-    fn field(self, id: i64) -> Option<Field> {
-        use Class::{Binary as B, Bool, Struct as S, Varint as V};
+    /// The format's type of field `id` (`None`: an id the reader skips by its declared type).
+    fn field(self, id: i16) -> Option<Field> {
+        use Class::{Binary as B, Bool, Byte, Double, Struct as S, Varint as V};
         use Field::{List, Scalar, Struct};
         use Known::*;
         Some(match (self, id) {
@@ -106,11 +124,11 @@ impl Known {
             (FileMetaData, 4) => List(S, RowGroup),
             (FileMetaData, 5) => List(S, KeyValue),
             (FileMetaData, 6 | 9) => Scalar(B),
-            (FileMetaData, 7) => List(S, Other),
+            (FileMetaData, 7) => List(S, ColumnOrder),
             (FileMetaData, 8) => Struct(Other),
             (SchemaElement, 1..=3 | 5..=9) => Scalar(V),
             (SchemaElement, 4) => Scalar(B),
-            (SchemaElement, 10) => Struct(Other),
+            (SchemaElement, 10) => Struct(LogicalType),
             (RowGroup, 1) => List(S, ColumnChunk),
             (RowGroup, 2 | 3 | 5..=7) => Scalar(V),
             (RowGroup, 4) => List(S, SortingColumn),
@@ -125,7 +143,7 @@ impl Known {
             (ColumnMetaData, 12) => Struct(Statistics),
             (ColumnMetaData, 13) => List(S, PageEncodingStats),
             (ColumnMetaData, 16) => Struct(SizeStatistics),
-            (ColumnMetaData, 17) => Struct(Other),
+            (ColumnMetaData, 17) => Struct(GeospatialStatistics),
             (KeyValue, 1 | 2) => Scalar(B),
             (SortingColumn, 1) => Scalar(V),
             (SortingColumn, 2 | 3) => Scalar(Bool),
@@ -135,6 +153,27 @@ impl Known {
             (Statistics, 7 | 8) => Scalar(Bool),
             (SizeStatistics, 1) => Scalar(V),
             (SizeStatistics, 2 | 3) => List(V, Other),
+            (GeospatialStatistics, 1) => Struct(BoundingBox),
+            (GeospatialStatistics, 2) => List(V, Other),
+            (BoundingBox, 1..=8) => Scalar(Double),
+            (LogicalType, 1..=4 | 6 | 11..=15) => Struct(Other),
+            (LogicalType, 5) => Struct(DecimalType),
+            (LogicalType, 7 | 8) => Struct(TimestampType),
+            (LogicalType, 10) => Struct(IntType),
+            (LogicalType, 16) => Struct(VariantType),
+            (LogicalType, 17) => Struct(GeometryType),
+            (LogicalType, 18) => Struct(GeographyType),
+            (DecimalType, 1 | 2) => Scalar(V),
+            (TimestampType, 1) => Scalar(Bool),
+            (TimestampType, 2) => Struct(TimeUnit),
+            (TimeUnit, 1..=3) => Struct(Other),
+            (IntType, 1) => Scalar(Byte),
+            (IntType, 2) => Scalar(Bool),
+            (VariantType, 1) => Scalar(Byte),
+            (GeometryType, 1) => Scalar(B),
+            (GeographyType, 1) => Scalar(B),
+            (GeographyType, 2) => Scalar(V),
+            (ColumnOrder, 1) => Struct(Other),
             _ => return None,
         })
     }
@@ -186,14 +225,14 @@ impl Reader<'_> {
         self.walk_struct(Known::Other, depth)
     }
 
-    /// Walks a struct; in the structs on polars' path to a list (`kind`), a field must carry
-    /// the type parquet.thrift gives its id, since polars reads by id and ignores the declared
-    /// type (a struct declared where it reads a list let a 2^31-element list header through).
+    /// Walks a struct; in the structs the `parquet` crate reads by id (`kind`), a field must
+    /// carry the type parquet.thrift gives its id, since that reader ignores the declared type
+    /// (a struct declared where it reads a list let a 2^31-element list header through).
     fn walk_struct(&mut self, kind: Known, depth: u32) -> Result<(), String> {
         if depth > MAX_DEPTH {
             return Err("footer nests structs too deeply".into());
         }
-        let mut id: i64 = 0;
+        let mut id: i16 = 0;
         loop {
             let h = self.byte()?;
             let ty = h & 0x0f;
@@ -201,10 +240,12 @@ impl Reader<'_> {
                 return Ok(());
             }
             id = if h >> 4 == 0 {
-                let z = self.varint()? as i64;
-                (z >> 1) ^ -(z & 1) // long-form field id, zigzag
+                // Long-form field id: a zigzag varint, truncated to 16 bits as the reader does.
+                let z = self.varint()?;
+                ((z >> 1) as i64 ^ -((z & 1) as i64)) as i16
             } else {
-                id + i64::from(h >> 4)
+                id.checked_add(i16::from(h >> 4))
+                    .ok_or("footer field id overflows 16 bits")?
             };
             let Some(field) = kind.field(id) else {
                 match ty {
@@ -232,24 +273,37 @@ impl Reader<'_> {
         }
     }
 
-    /// A list polars reads with elements of class `elem` (structs of kind `child`).
-    fn walk_list(&mut self, elem: Class, child: Known, depth: u32) -> Result<(), String> {
+    /// The header of a list or set: (element type, count), the count at most the bytes left.
+    /// A zero header byte is an empty list (some writers leave out the element type then).
+    fn list_header(&mut self) -> Result<(u8, usize), String> {
         let h = self.byte()?;
         let n = if h >> 4 == 0x0f {
             self.length("list")?
         } else {
             usize::from(h >> 4)
         };
-        let ty = h & 0x0f;
-        if class(ty) != Some(elem) {
-            return Err(format!(
-                "footer list has elements of Thrift type {ty}, the format says {elem:?}"
-            ));
-        }
         if n > self.left() {
             let left = self.left();
             return Err(format!(
                 "footer declares a list of {n} with only {left} bytes left"
+            ));
+        }
+        if h != 0 && matches!(h & 0x0f, 1 | 2) {
+            // The reader would skip such elements as zero bytes, out of step with the data.
+            return Err("footer holds a list of booleans (no Parquet field is one)".into());
+        }
+        Ok((h & 0x0f, n))
+    }
+
+    /// A list the reader reads with elements of class `elem` (structs of kind `child`).
+    fn walk_list(&mut self, elem: Class, child: Known, depth: u32) -> Result<(), String> {
+        let (ty, n) = self.list_header()?;
+        if n == 0 {
+            return Ok(());
+        }
+        if class(ty) != Some(elem) {
+            return Err(format!(
+                "footer list has elements of Thrift type {ty}, the format says {elem:?}"
             ));
         }
         for _ in 0..n {
@@ -284,20 +338,9 @@ impl Reader<'_> {
                 self.pos += n;
             }
             9 | 10 => {
-                let h = self.byte()?;
-                let n = if h >> 4 == 0x0f {
-                    self.length("list")?
-                } else {
-                    usize::from(h >> 4)
-                };
-                if n > self.left() {
-                    let left = self.left();
-                    return Err(format!(
-                        "footer declares a list of {n} with only {left} bytes left"
-                    ));
-                }
+                let (elem, n) = self.list_header()?;
                 for _ in 0..n {
-                    self.skip_value(h & 0x0f, depth + 1)?;
+                    self.skip_value(elem, depth + 1)?;
                 }
             }
             11 => {

@@ -10,17 +10,19 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
 use std::thread::JoinHandle;
 
-use polars::prelude::{PlSmallStr, PolarsError};
-use polars_arrow::array::{Array, DictionaryArray, PrimitiveArray, Utf8ViewArray};
-use polars_arrow::datatypes::{ArrowDataType, ArrowSchema, Field, IntegerType};
-use polars_parquet::write::{
-    CompressionOptions, Compressor, DynIter, DynStreamingIterator, Encoding,
-    FallibleStreamingIterator, FileWriter, KeyValue, ParquetType, StatisticsOptions, Version,
-    WriteOptions, ZstdLevel, array_to_columns, to_parquet_schema,
+use parquet::basic::{
+    Compression as Codec, Encoding, LogicalType, Repetition, Type as PhysicalType, ZstdLevel,
 };
+use parquet::data_type::DoubleType;
+use parquet::errors::ParquetError;
+use parquet::file::metadata::KeyValue;
+use parquet::file::properties::{EnabledStatistics, WriterProperties, WriterVersion};
+use parquet::file::writer::SerializedFileWriter;
+use parquet::schema::types::{ColumnDescPtr, Type};
 
 use crate::early_sync::EarlySync;
 use crate::error::DataError;
+use crate::pq_segment::segment_chunk;
 use crate::schema::{ColumnSet, ReferenceRow, SEGMENT_COLUMN};
 use sins_imu::ImuSample;
 
@@ -91,65 +93,45 @@ impl ParquetSink {
         opts: ParquetWriteOptions,
     ) -> Result<Self, DataError> {
         let names = columns.float_columns();
-        let mut fields: Vec<Field> = names
-            .iter()
-            .map(|n| Field::new(PlSmallStr::from_str(n), ArrowDataType::Float64, false))
-            .collect();
-        if columns.segment {
-            let dtype = ArrowDataType::Dictionary(
-                IntegerType::UInt16,
-                Box::new(ArrowDataType::Utf8View),
-                false,
-            );
-            fields.push(Field::new(
-                PlSmallStr::from_static(SEGMENT_COLUMN),
-                dtype,
-                false,
-            ));
-        }
-        let schema: ArrowSchema = fields.into_iter().map(|f| (f.name.clone(), f)).collect();
-        // Only null counts: min/max statistics cost ~10 % of the encoder's time and nothing
-        // here reads them.
-        let statistics = StatisticsOptions {
-            min_value: false,
-            max_value: false,
-            distinct_count: false,
-            null_count: true,
-            binary_statistics_truncate_length: None,
-        };
-        let options = WriteOptions {
-            statistics,
-            version: Version::V1,
-            compression: compression_options(file, opts.compression)?,
-            data_page_size: None,
-        };
-        let parquet_types = to_parquet_schema(&schema)
-            .map_err(|e| DataError::invalid_write(file, e.to_string()))?
-            .fields()
-            .to_vec();
-        let early_sync = EarlySync::start(&out);
-        // A small buffer: pages (~1 MB) bypass it and go straight to the file (one copy less);
-        // it only batches the small page headers.
-        let writer = FileWriter::try_new(BufWriter::with_capacity(1 << 16, out), schema, options)
-            .map_err(|e| DataError::invalid_write(file, e.to_string()))?;
-        let labels_array: Box<dyn Array> = Box::new(Utf8ViewArray::from_slice_values(labels));
-        let kv: Vec<KeyValue> = kv
+        let invalid = |e: ParquetError| DataError::invalid_write(file, e.to_string());
+        let schema = Arc::new(schema(&names, columns.segment).map_err(invalid)?);
+        let kv = kv
             .into_iter()
-            .map(|(key, value)| KeyValue {
-                key,
-                value: Some(value),
-            })
+            .map(|(key, value)| KeyValue::new(key, value))
             .collect();
+        // Plain-encoded floats in one page per column chunk at the default row-group size (no
+        // row-count limit on pages), no statistics, hence no page index either: nothing here
+        // reads them and min/max cost encoder time.
+        let props = WriterProperties::builder()
+            .set_writer_version(WriterVersion::PARQUET_1_0)
+            .set_compression(codec(file, opts.compression)?)
+            .set_dictionary_enabled(false)
+            .set_encoding(Encoding::PLAIN)
+            .set_statistics_enabled(EnabledStatistics::None)
+            .set_offset_index_disabled(true)
+            .set_data_page_row_count_limit(usize::MAX)
+            .set_key_value_metadata(Some(kv))
+            .build();
+        let early_sync = EarlySync::start(&out);
+        // A small buffer: pages (~0.5 MB) bypass it and go straight to the file (one copy
+        // less); it only batches the small page headers.
+        let writer = SerializedFileWriter::new(
+            BufWriter::with_capacity(1 << 16, out),
+            schema,
+            Arc::new(props),
+        )
+        .map_err(invalid)?;
+        let segment_descr = columns
+            .segment
+            .then(|| writer.schema_descr().column(names.len()));
         let (tx, rx) = sync_channel::<RowGroupData>(1);
         let aborted = Arc::new(AtomicBool::new(false));
         let job = EncoderJob {
             aborted: Arc::clone(&aborted),
             file: file.to_path_buf(),
             writer,
-            parquet_types,
-            options,
-            labels_array,
-            kv,
+            segment_descr,
+            labels: labels.to_vec(),
             early_sync,
         };
         let handle = std::thread::Builder::new()
@@ -291,27 +273,46 @@ fn new_buffers(n: usize, cap: usize) -> Vec<Vec<f64>> {
     (0..n).map(|_| Vec::with_capacity(cap)).collect()
 }
 
-fn compression_options(file: &Path, c: Compression) -> Result<CompressionOptions, DataError> {
+fn codec(file: &Path, c: Compression) -> Result<Codec, DataError> {
     Ok(match c {
-        Compression::Uncompressed => CompressionOptions::Uncompressed,
-        Compression::Snappy => CompressionOptions::Snappy,
-        Compression::Lz4 => CompressionOptions::Lz4Raw,
-        Compression::Zstd(level) => CompressionOptions::Zstd(Some(
+        Compression::Uncompressed => Codec::UNCOMPRESSED,
+        Compression::Snappy => Codec::SNAPPY,
+        Compression::Lz4 => Codec::LZ4_RAW,
+        Compression::Zstd(level) => Codec::ZSTD(
             ZstdLevel::try_new(level)
                 .map_err(|e| DataError::invalid_write(file, format!("zstd level: {e}")))?,
-        )),
+        ),
     })
+}
+
+/// The file schema: the Float64 columns `names`, then `segment` (UTF-8 strings), all required.
+fn schema(names: &[&str], segment: bool) -> parquet::errors::Result<Type> {
+    let mut fields = Vec::with_capacity(names.len() + 1);
+    for name in names {
+        let t = Type::primitive_type_builder(name, PhysicalType::DOUBLE)
+            .with_repetition(Repetition::REQUIRED)
+            .build()?;
+        fields.push(Arc::new(t));
+    }
+    if segment {
+        let t = Type::primitive_type_builder(SEGMENT_COLUMN, PhysicalType::BYTE_ARRAY)
+            .with_repetition(Repetition::REQUIRED)
+            .with_logical_type(Some(LogicalType::String))
+            .build()?;
+        fields.push(Arc::new(t));
+    }
+    Type::group_type_builder("sinsbench")
+        .with_fields(fields)
+        .build()
 }
 
 /// State owned by the background encoder thread.
 struct EncoderJob {
     aborted: Arc<AtomicBool>,
     file: PathBuf,
-    writer: FileWriter<BufWriter<File>>,
-    parquet_types: Vec<ParquetType>,
-    options: WriteOptions,
-    labels_array: Box<dyn Array>,
-    kv: Vec<KeyValue>,
+    writer: SerializedFileWriter<BufWriter<File>>,
+    segment_descr: Option<ColumnDescPtr>,
+    labels: Vec<String>,
     early_sync: Option<EarlySync>,
 }
 
@@ -322,7 +323,8 @@ impl EncoderJob {
                 break;
             }
             let raw_bytes = rg.floats.iter().map(|c| c.len() as u64 * 8).sum();
-            self.write_row_group(rg)?;
+            self.write_row_group(&rg)
+                .map_err(|e| self.pq_err("writing a row group", e))?;
             if let Some(s) = self.early_sync.as_mut() {
                 s.wrote(raw_bytes);
             }
@@ -330,68 +332,53 @@ impl EncoderJob {
         if self.aborted.load(Ordering::SeqCst) {
             return Err(DataError::invalid_write(&self.file, "write aborted"));
         }
-        let kv = std::mem::take(&mut self.kv);
-        self.writer
-            .end(Some(kv))
-            .map_err(|e| self.polars_err("writing the Parquet footer", e))?;
         let file = self.file.clone();
+        let buffered = self
+            .writer
+            .into_inner()
+            .map_err(|e| pq_write_err(&file, "writing the Parquet footer", e))?;
+        let out = buffered
+            .into_inner()
+            .map_err(|e| DataError::io(&file, "flushing the Parquet file", e.into_error()))?;
         if let Some(s) = self.early_sync.take() {
             s.finish()
                 .map_err(|e| DataError::io(&file, "syncing the Parquet file", e))?;
         }
-        self.writer
-            .into_inner()
-            .into_inner()
-            .map_err(|e| DataError::io(&file, "flushing the Parquet file", e.into_error()))
+        Ok(out)
     }
 
-    fn polars_err(&self, what: &str, e: PolarsError) -> DataError {
-        match e {
-            PolarsError::IO { error, .. } => {
-                let io = std::io::Error::new(error.kind(), error.to_string());
-                DataError::io(&self.file, "writing the Parquet file", io)
-            }
-            other => DataError::invalid_write(&self.file, format!("{what}: {other}")),
-        }
+    fn pq_err(&self, what: &str, e: ParquetError) -> DataError {
+        pq_write_err(&self.file, what, e)
     }
 
-    fn write_row_group(&mut self, rg: RowGroupData) -> Result<(), DataError> {
-        let n_rows = rg.floats.first().map_or(0, Vec::len);
-        let mut arrays: Vec<(Box<dyn Array>, Encoding)> = rg
-            .floats
-            .into_iter()
-            .map(|v| {
-                let a: Box<dyn Array> = Box::new(PrimitiveArray::<f64>::from_vec(v));
-                (a, Encoding::Plain)
-            })
-            .collect();
-        if let Some(keys) = rg.segment {
-            let dtype = ArrowDataType::Dictionary(
-                IntegerType::UInt16,
-                Box::new(ArrowDataType::Utf8View),
-                false,
-            );
-            let dict = DictionaryArray::<u16>::try_new(
-                dtype,
-                PrimitiveArray::<u16>::from_vec(keys),
-                self.labels_array.clone(),
-            )
-            .map_err(|e| self.polars_err("building the segment column", e))?;
-            arrays.push((Box::new(dict), Encoding::RleDictionary));
+    fn write_row_group(&mut self, rg: &RowGroupData) -> parquet::errors::Result<()> {
+        let mut group = self.writer.next_row_group()?;
+        for values in &rg.floats {
+            let mut column = group
+                .next_column()?
+                .ok_or_else(|| ParquetError::General("more columns than the schema".into()))?;
+            column
+                .typed::<DoubleType>()
+                .write_batch(values, None, None)?;
+            column.close()?;
         }
-        let mut columns = Vec::with_capacity(arrays.len());
-        for ((array, encoding), ptype) in arrays.into_iter().zip(&self.parquet_types) {
-            let encoded = array_to_columns(array, ptype.clone(), self.options, &[encoding])
-                .map_err(|e| self.polars_err("encoding a column", e))?;
-            for pages in encoded {
-                let pages = pages.map(|p| p.map_err(|e| e.into()));
-                let compressed = Compressor::new(pages, self.options.compression, vec![])
-                    .map_err(PolarsError::from);
-                columns.push(Ok(DynStreamingIterator::new(compressed)));
-            }
+        if let (Some(keys), Some(descr)) = (&rg.segment, &self.segment_descr) {
+            let (bytes, close) = segment_chunk(descr.clone(), &self.labels, keys)?;
+            group.append_column(&bytes, close)?;
         }
-        self.writer
-            .write(n_rows as u64, DynIter::new(columns.into_iter()))
-            .map_err(|e| self.polars_err("writing a row group", e))
+        group.close()?;
+        Ok(())
     }
+}
+
+/// A [`ParquetError`] while writing: an I/O error stays one, anything else is reported with
+/// `what` was being written.
+fn pq_write_err(file: &Path, what: &str, e: ParquetError) -> DataError {
+    if let ParquetError::External(inner) = &e
+        && let Some(io) = inner.downcast_ref::<std::io::Error>()
+    {
+        let source = std::io::Error::new(io.kind(), io.to_string());
+        return DataError::io(file, "writing the Parquet file", source);
+    }
+    DataError::invalid_write(file, format!("{what}: {e}"))
 }

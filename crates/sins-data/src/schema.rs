@@ -7,6 +7,11 @@ use sins_imu::ImuSample;
 use crate::error::DataError;
 use crate::meta::DatasetMeta;
 
+/// Largest batch returned by readers (rows). Parquet files written by this crate with the
+/// default options have smaller row groups, so a batch is exactly one row group; larger row
+/// groups (files from elsewhere) are split.
+pub const MAX_BATCH_ROWS: usize = 1 << 17;
+
 /// Sample time at the end of the sample interval (s). Required.
 pub const COL_T_S: &str = "t_s";
 /// Required columns, in file order: time (s), angular increments (rad), velocity increments (m/s).

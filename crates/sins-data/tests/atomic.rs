@@ -1,4 +1,5 @@
 //! Atomic replacement: failures never damage an existing good file or leave temporaries.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
 
 mod common;
 

@@ -1,4 +1,5 @@
 //! Every kind of bad input yields a specific error naming the file and the row/column/key.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
 
 mod common;
 

@@ -1,5 +1,8 @@
 //! Inputs found by fuzzing (`fuzz/`, `just fuzz`) that crashed a dataset reader. Each must be
-//! refused with an error naming the file: never an abort, a panic or a hang.
+//! refused with an error naming the file: never an abort, a panic or a hang. They were found
+//! against polars-parquet; the `parquet` crate that reads the files now pre-sizes lists from
+//! their declared lengths and reads footer fields by id the same way, so the footer pre-check
+//! (`src/pq_footer.rs`) guards it too.
 
 use std::path::PathBuf;
 

@@ -1,5 +1,6 @@
 //! Plausibility guards of the readers: a value no real IMU on the Earth can produce is refused
 //! in both formats with an error naming the file, the column and the row (and the CSV line).
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
 
 mod common;
 

@@ -1,4 +1,5 @@
 //! Round trips and streaming behaviour of the dataset writer and reader.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
 
 mod common;
 
@@ -264,4 +265,45 @@ fn writer_rejects_bad_extra_metadata_names() {
         .err()
         .unwrap();
     assert!(err.to_string().contains("sinsbench.seed"), "{err}");
+}
+
+#[test]
+fn row_groups_larger_than_a_batch_are_split() {
+    // Files from elsewhere may hold more rows per row group than a batch: the reader splits them.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bigrg.parquet");
+    let n = 2 * MAX_BATCH_ROWS + 5000;
+    let opts = ParquetWriteOptions {
+        compression: Compression::Lz4,
+        row_group_rows: MAX_BATCH_ROWS + 1000,
+    };
+    let mut w = DatasetWriter::create_with_options(&path, &meta(), ColumnSet::ALL, &labels(), opts)
+        .unwrap();
+    let all = batch(0, n, ColumnSet::ALL);
+    w.write_batch(&all).unwrap();
+    w.finish().unwrap();
+    let mut r = DatasetReader::open(&path).unwrap();
+    let mut sizes = Vec::new();
+    let mut got = SampleBatch {
+        segment_index: Some(Vec::new()),
+        reference: Some(Vec::new()),
+        ..SampleBatch::default()
+    };
+    while let Some(b) = r.next_batch().unwrap() {
+        assert_eq!(b.first_row, got.samples.len() as u64);
+        sizes.push(b.len());
+        got.samples.extend(b.samples);
+        got.segment_index
+            .as_mut()
+            .unwrap()
+            .extend(b.segment_index.unwrap());
+        got.reference.as_mut().unwrap().extend(b.reference.unwrap());
+    }
+    let rg = MAX_BATCH_ROWS + 1000;
+    assert_eq!(
+        sizes,
+        [MAX_BATCH_ROWS, 1000, MAX_BATCH_ROWS, 1000, n - 2 * rg],
+        "row groups in batches of at most MAX_BATCH_ROWS"
+    );
+    assert_bit_identical(&got, &all);
 }

@@ -1,5 +1,6 @@
 //! Shared helpers for the sins-data integration tests.
 #![allow(dead_code)]
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
 
 use std::path::Path;
 
