@@ -2,6 +2,8 @@
 //! paper's units, consistent with the truth files they describe, and malformed rows refused with
 //! file, line and reason.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_calstudy::reference::{TABLE1_FILE, TABLE3_FILE};
 use sins_calstudy::units::{PARAMS, vec_to_paper};
 use sins_calstudy::{ReferenceError, load_table1, load_table3, parse_table1, parse_table3};

@@ -3,6 +3,8 @@
 //! leaves the temperature terms in its constants, the least-squares baseline recovers the truth's
 //! slopes, and the result does not depend on the thread count.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_calstudy::stats::nees_mean_interval;
 use sins_calstudy::{Study, StudyConfig, render_markdown, run_study};
 use std::path::PathBuf;

@@ -2,6 +2,8 @@
 //! ran (order, workers), equals the in-process calibration study's Table 1, and every bad input
 //! is refused with a clear message and nothing half-written.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_campaign::{BinaryId, CampaignError, Context, ShardRun, open, plan, shard_path};
 use std::path::{Path, PathBuf};
 

@@ -1,6 +1,8 @@
 //! `[[imu.effect]]` tables: every kind loaded into SI specs, written back bit-exactly, and every
 //! kind of mistake named with file, key and line.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_config::{effects_to_toml, parse_effects_toml};
 use sins_imu::{EffectKind, EffectSpec};
 use sins_nav::{DEG, DEG_PER_H, G0_MPS2, UG, Vec3};

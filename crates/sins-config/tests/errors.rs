@@ -1,5 +1,7 @@
 //! Every rejection names the file, the key (or table / array index) and the problem.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 
 use common::{SEGMENTS, exp_file, experiment_text, experiments_dir, write_temp};

@@ -1,5 +1,7 @@
 //! The repository's `experiments/` folder: every file loads and has the paper's numbers.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 
 use common::experiments_dir;

@@ -1,5 +1,7 @@
 //! Parameter files: exact round trips, the coefficient table and the paper's units.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 
 use common::experiments_dir;

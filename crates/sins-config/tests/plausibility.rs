@@ -1,6 +1,8 @@
 //! Plausibility guards of experiment, parameter and effect files: a value no real IMU on the
 //! Earth can have is refused with an error naming the file, the key (with its line) and the limit.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 
 use common::{SEGMENTS, experiment_text, experiments_dir, write_temp};

@@ -11,6 +11,8 @@
 //! - `--twin`: subtract each run's noise-free replay as the twin mean; `--noq`: no gyro quantizer;
 //! - env `DIAG_KAPPA`: the twin's quantization factor; `DIAG_SERIES`: print the gap series.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_diag::diagnose;
 use sins_diag::input::{DiagnoseConfig, DiagnosisInput, RunData};
 use sins_diag::noise::NoiseSpec;

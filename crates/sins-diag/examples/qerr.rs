@@ -2,6 +2,8 @@
 //! the gyro quantizer (same seed, so every other noise stream is identical), against the twin's
 //! quantization-only spread. Run: `cargo run --release -p sins-diag --example qerr -- [seed]`
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_diag::diagnose;
 use sins_diag::input::{DiagnoseConfig, DiagnosisInput, RunData};
 use sins_diag::noise::NoiseSpec;

@@ -3,6 +3,8 @@
 //! predicts how far a calibration of an IMU that really has the effect moves its coefficients,
 //! and, from the run with the effect, the set a calibration without it would have found.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 
 use sins_diag::absorb::{CalibrationRun, absorption};

@@ -1,6 +1,8 @@
 //! End-to-end diagnoses of simulated "real" runs: a null case, a hidden effect, withheld
 //! validation.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 use common::*;
 use sins_diag::diagnose;

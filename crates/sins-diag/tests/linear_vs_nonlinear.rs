@@ -2,6 +2,8 @@
 //! nonlinear pipeline: simulate with the effect, replay with self-alignment, difference with
 //! the same run without it.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 use common::*;
 use sins_diag::Grid;

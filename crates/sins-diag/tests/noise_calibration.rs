@@ -2,6 +2,8 @@
 //! the quantization factor of `NoiseSpec::gyro_quantum_factor`; the paper-size figure comes
 //! from `examples/qerr.rs` and `examples/full_speed.rs --seed N`.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 use common::*;
 use sins_diag::diagnose;

@@ -1,6 +1,8 @@
 //! Nonlinear refinement: an effect large enough to bend the error dynamics is fitted on the
 //! real pipeline (runs replayed with the effect removed), not on its linear extrapolation.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 use common::*;
 use sins_diag::diagnose;

@@ -2,6 +2,8 @@
 //! step, a ramp and a turn-on transient injected by the simulator are reported as events on
 //! their channel with the onset within 3 sigma of the truth; runs without an effect raise none.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 use common::*;
 use sins_diag::diagnose;

@@ -4,6 +4,8 @@
 //! between two of the walk's 20 min lumps is not an outlier increment (the lumps cannot place
 //! it); the time-local scan finds it at its onset and no walk is passed for it.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 use common::*;
 use sins_diag::diagnose;

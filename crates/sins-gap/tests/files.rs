@@ -3,6 +3,8 @@
 //! with its magnitude; the same run without the effect shows no gap. The outputs are written
 //! and (when Rerun's reader is installed) the recording verifies.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::noise::NoiseSpec;
 use sins_diag::report::Verdict;

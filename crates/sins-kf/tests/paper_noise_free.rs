@@ -1,6 +1,8 @@
 //! The paper's 4.2 h calibration simulation (section 4) without noise: the 42-state filter must
 //! recover every Table 1 coefficient to well within the paper's own residuals, fast.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 
 use common::*;

@@ -2,6 +2,8 @@
 //! coefficient consistent with its 1-sigma, and every state's sigma reduced at least ten times by
 //! the 18-step scheme (all 42 states observable).
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 
 use common::*;

@@ -1,5 +1,7 @@
 //! Data that are not a turntable run at the configured site are refused with a clear error.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 
 use common::*;

@@ -3,6 +3,8 @@
 //! about the mean temperature offset of the run, `B_a + TB_a ΔT̄`, `δK_a + TK_a ΔT̄`,
 //! `δM_a + TM_a ΔT̄` (column j with accelerometer j's ΔT̄), while the 42-state filter separates them.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 
 use common::*;

@@ -1,6 +1,8 @@
 //! Analytic checks of the mechanization against the independent linear static error model, at
 //! rest at the paper's site, with exact (closed-form) stationary increments.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_nav::alignment::{AlignmentConfig, SelfAlignment};
 use sins_nav::earth::EarthAt;
 use sins_nav::linear::propagate_static;

@@ -3,6 +3,8 @@
 //! bound). If the stated sigmas are right, one assertion fails by chance about 0.3 % of the
 //! time for a fresh seed; the seeds here are fixed, so the tests are deterministic.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_diag::DiagError;
 use sins_diag::source::{BatchSink, SampleSource, SimSource};
 use sins_imu::{ForwardModel, ImuErrorParams, ImuSample, ParamModel};

@@ -8,6 +8,8 @@
 //! sculling/rotation errors of the algorithm. For a turntable at a fixed site the exact
 //! specific-force integral is `−g^n T`.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_imu::{Compensator, ImuErrorParams, ParamModel};
 use sins_nav::attitude::{attitude_error_ned_rad, quat_from_rotation_vector};
 use sins_nav::reconstruct::{ReconstructConfig, reconstruct_all};

@@ -2,6 +2,8 @@
 //! the full 15 h navigation experiment (stationary and Table 4 vibration patterns 1-3) with a
 //! maximum horizontal error of at most 0.02 nmi (1 % of the smallest Table 5 figure).
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_imu::{Compensator, ImuErrorParams, ParamModel};
 use sins_nav::reconstruct::ReconstructConfig;
 use sins_nav::{ConingOrder, NMI_M, NavState, StrapdownConfig, VerticalChannel};

@@ -1,6 +1,8 @@
 //! Cross-checks through the whole pipeline: simulator (exact increments, forward model eqs 1-2)
 //! → compensation (eqs 3-5) → strapdown replay, against the independent linear error model.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_imu::{Compensator, ImuErrorParams, ParamModel};
 use sins_nav::linear::propagate_static;
 use sins_nav::*;

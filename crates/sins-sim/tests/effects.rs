@@ -1,6 +1,8 @@
 //! Extra effects in the simulator: switching one on changes the samples of the same seed by
 //! exactly that effect's perturbation, computed independently from the recorded contexts.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 
 use common::{dwell, pattern3, rotate, scenario};

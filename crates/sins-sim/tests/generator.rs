@@ -1,6 +1,8 @@
 //! The streaming simulator: sample timing, segment indices, forward-model wiring, determinism,
 //! stream independence and scenario validation.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 
 use common::*;

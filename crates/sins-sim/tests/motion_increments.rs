@@ -1,5 +1,7 @@
 //! Physics of the motion timeline and of the exact increments.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 
 use common::*;

@@ -3,6 +3,8 @@
 //! the harness pipeline itself, and the summary is bit-identical whatever the thread count, the
 //! sharding or the order in which samples finish.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_harness::pipeline::{NamedParams, simulate_and_calibrate, simulate_and_replay};
 use sins_imu::{EffectKind, ParamModel};
 use sins_sim::scenario::{ChamberSegment, MotionSegment, Scenario};

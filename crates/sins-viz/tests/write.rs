@@ -2,6 +2,8 @@
 //! one is detected, and a write that cannot succeed ends at once with an error naming the file
 //! (no flush that waits forever) and leaves nothing behind.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use sins_viz::{NavRecording, ScalarSeries, Series, VizError, verify_recording, write_navigation};
 use std::path::Path;
 use std::sync::mpsc;

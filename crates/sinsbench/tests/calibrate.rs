@@ -1,6 +1,8 @@
 //! `sinsbench calibrate` end to end on a short calibration run: the parameter file, history and
 //! Rerun recording are written and readable, and the estimates are close to the truth.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 use common::{
     csv_without_temperatures, exe, short_calibration_experiment, simulate_into, verify_rrd,

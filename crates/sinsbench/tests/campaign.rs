@@ -2,6 +2,8 @@
 //! same bytes; `status --missing` speaks Slurm array syntax; bad input is refused with exit 2,
 //! a message naming the problem, and nothing half-written.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 use common::{experiments, run, s};
 use std::path::{Path, PathBuf};

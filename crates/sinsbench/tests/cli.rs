@@ -1,5 +1,7 @@
 //! End-to-end checks of the `sinsbench` binary: determinism of `simulate` and clear errors.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use std::path::{Path, PathBuf};
 use std::process::Output;
 

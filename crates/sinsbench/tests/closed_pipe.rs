@@ -1,6 +1,8 @@
 //! Output to a pipe whose reader is gone (`sinsbench gate ... | head -1`): no panic, the
 //! command's own exit code, and every file it was asked to write.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use std::path::{Path, PathBuf};
 use std::process::Stdio;
 

@@ -7,6 +7,8 @@
 //! and no temporary file or staging directory may remain. A SIGINT must leave nothing behind
 //! even before that cleanup. The counts are printed.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 use common::{exe, s, short_calibration_experiment, simulate_into};
 use std::collections::BTreeMap;

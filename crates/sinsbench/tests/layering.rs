@@ -2,6 +2,8 @@
 //! a numeric crate that gains a file-format, plotting, logging or CLI dependency (directly or
 //! through another crate) fails this test, naming the path that brought it in.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use std::collections::{BTreeMap, BTreeSet};
 use std::process::Command;
 

@@ -4,6 +4,8 @@
 //! full disk or an exhausted quota) ends at once with a clear error, leaving the previous output
 //! and no temporary behind; SIGINT removes the run's temporaries.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 use common::{csv_without_temperatures, exe, experiments, run, s};
 use std::path::Path;

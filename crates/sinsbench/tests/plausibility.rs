@@ -2,6 +2,8 @@
 //! refused with exit code 2 and a message naming the file, column/key and row, before anything
 //! is written; `--align-s` below the coarse stage is refused with a message that says so.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use std::path::Path;
 
 mod common;

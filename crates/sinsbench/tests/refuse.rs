@@ -2,6 +2,8 @@
 //! that would check nothing, a thresholds file that is bad before `gate --config` runs a
 //! report, zero worker threads, a self-alignment time that is not a positive number.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 use std::path::Path;
 
 mod common;

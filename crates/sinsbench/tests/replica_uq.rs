@@ -3,6 +3,8 @@
 //! resumes without rerunning; bad inputs are refused with the file, key or option named and
 //! nothing of the user's is touched.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 
 use common::{experiments, run, s as p};

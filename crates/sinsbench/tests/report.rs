@@ -1,6 +1,8 @@
 //! `sinsbench report` and `sinsbench gate` end to end: the built-in replica of the paper's
 //! Table 5, the gate's three outcomes, bad input and the atomic report directory.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
 mod common;
 use common::{
     csv_without_temperatures, experiments, run, s, short_calibration_experiment, simulate_into,
