@@ -89,6 +89,19 @@ pub struct NoiseSpec {
 /// See [`NoiseSpec::gyro_quantum_factor`].
 pub const DEFAULT_QUANTUM_FACTOR: f64 = 0.5;
 
+impl NoiseSpec {
+    /// Ideal sensors: no noise term at all (a twin whose spread is the floor alone).
+    pub const NONE: NoiseSpec = NoiseSpec {
+        gyro_arw_rad_per_sqrt_s: 0.0,
+        accel_vrw_mps_per_sqrt_s: 0.0,
+        gyro_bias: BiasProcess::NONE,
+        accel_bias: BiasProcess::NONE,
+        gyro_quantum_rad: 0.0,
+        gyro_quantum_factor: 0.0,
+        unresolved_walk_per_sqrt_s: None,
+    };
+}
+
 fn default_quantum_factor() -> f64 {
     DEFAULT_QUANTUM_FACTOR
 }

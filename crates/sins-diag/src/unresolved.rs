@@ -157,7 +157,6 @@ impl UnresolvedWalks {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::noise::BiasProcess;
     use crate::stats::test_normals;
     use nalgebra::DMatrix;
 
@@ -207,13 +206,8 @@ mod tests {
 
     fn noise(bound: Option<[f64; 2]>) -> NoiseSpec {
         NoiseSpec {
-            gyro_arw_rad_per_sqrt_s: 0.0,
-            accel_vrw_mps_per_sqrt_s: 0.0,
-            gyro_bias: BiasProcess::NONE,
-            accel_bias: BiasProcess::NONE,
-            gyro_quantum_rad: 0.0,
-            gyro_quantum_factor: 0.0,
             unresolved_walk_per_sqrt_s: bound,
+            ..NoiseSpec::NONE
         }
     }
 

@@ -7,7 +7,7 @@
 mod common;
 use common::*;
 use sins_diag::Grid;
-use sins_diag::noise::{BiasProcess, NoiseSpec};
+use sins_diag::noise::NoiseSpec;
 use sins_diag::replay::RealTrack;
 use sins_diag::sensitivity::ColumnId;
 use sins_imu::{EffectKind, ImuErrorParams};
@@ -15,15 +15,7 @@ use sins_nav::{DEG_PER_H, UG, Vec3};
 use sins_sim::Scenario;
 
 fn quiet() -> NoiseSpec {
-    NoiseSpec {
-        gyro_arw_rad_per_sqrt_s: 0.0,
-        accel_vrw_mps_per_sqrt_s: 0.0,
-        gyro_bias: BiasProcess::NONE,
-        accel_bias: BiasProcess::NONE,
-        gyro_quantum_rad: 0.0,
-        gyro_quantum_factor: 0.0,
-        unresolved_walk_per_sqrt_s: None,
-    }
+    NoiseSpec::NONE
 }
 
 #[test]
