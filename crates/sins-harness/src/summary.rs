@@ -116,6 +116,55 @@ pub struct Summary {
     pub experiments: Vec<ExperimentSummary>,
 }
 
+impl Summary {
+    /// A small valid summary, for tests and examples of what reads or checks one: one 15 h
+    /// experiment `nav1` replayed under "42-state" (maximum horizontal error `with_nmi`, at
+    /// 10 h in `pattern2`) and "30-state" (`without_nmi`), compared as compensated against
+    /// baseline.
+    pub fn example(with_nmi: f64, without_nmi: f64) -> Summary {
+        let result = |nmi: f64| SetResult {
+            max_horizontal_nmi: nmi,
+            max_horizontal_m: nmi * NMI_M,
+            t_max_s: 36_000.0,
+            segment_at_max: "pattern2".into(),
+            rms_horizontal_m: 900.0,
+            final_horizontal_m: 1000.0,
+            navigated_s: 52_800.0,
+            segments: vec![SegmentStretch {
+                label: "pattern2".into(),
+                occurrence: 1,
+                start_s: 30_000.0,
+                end_s: 40_000.0,
+                max_horizontal_m: nmi * NMI_M,
+                t_max_s: 36_000.0,
+                rms_horizontal_m: 800.0,
+            }],
+        };
+        Summary {
+            schema: SUMMARY_SCHEMA,
+            name: "test".into(),
+            description: String::new(),
+            generated_by: "test".into(),
+            parameter_sets: vec![],
+            comparison: Some(Comparison {
+                baseline: "30-state".into(),
+                compensated: "42-state".into(),
+            }),
+            experiments: vec![ExperimentSummary {
+                name: "nav1".into(),
+                source: "test".into(),
+                duration_h: 15.0,
+                results: BTreeMap::from([
+                    ("42-state".to_string(), result(with_nmi)),
+                    ("30-state".to_string(), result(without_nmi)),
+                ]),
+                improvement_percent: Some(improvement_percent(without_nmi, with_nmi)),
+                paper: None,
+            }],
+        }
+    }
+}
+
 /// `100 (baseline - compensated) / baseline` (%).
 pub fn improvement_percent(baseline_m: f64, compensated_m: f64) -> f64 {
     100.0 * (baseline_m - compensated_m) / baseline_m

@@ -2,58 +2,12 @@
 //! nothing. Reading thresholds files and `summary.json` is tested in `sins-config`.
 
 use sins_harness::gate::{Limits, THRESHOLDS_SCHEMA, Thresholds, junit_xml};
-use sins_harness::segments::SegmentStretch;
-use sins_harness::summary::{
-    Comparison, ExperimentSummary, SUMMARY_SCHEMA, SetResult, Summary, improvement_percent,
-};
+use sins_harness::summary::Summary;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-fn result(max_nmi: f64) -> SetResult {
-    SetResult {
-        max_horizontal_nmi: max_nmi,
-        max_horizontal_m: max_nmi * 1852.0,
-        t_max_s: 36_000.0,
-        segment_at_max: "pattern2".into(),
-        rms_horizontal_m: 900.0,
-        final_horizontal_m: 1000.0,
-        navigated_s: 52_800.0,
-        segments: vec![SegmentStretch {
-            label: "pattern2".into(),
-            occurrence: 1,
-            start_s: 30_000.0,
-            end_s: 40_000.0,
-            max_horizontal_m: max_nmi * 1852.0,
-            t_max_s: 36_000.0,
-            rms_horizontal_m: 800.0,
-        }],
-    }
-}
-
 fn summary(with_nmi: f64, without_nmi: f64) -> Summary {
-    let results = BTreeMap::from([
-        ("42-state".to_string(), result(with_nmi)),
-        ("30-state".to_string(), result(without_nmi)),
-    ]);
-    Summary {
-        schema: SUMMARY_SCHEMA,
-        name: "test".into(),
-        description: String::new(),
-        generated_by: "test".into(),
-        parameter_sets: vec![],
-        comparison: Some(Comparison {
-            baseline: "30-state".into(),
-            compensated: "42-state".into(),
-        }),
-        experiments: vec![ExperimentSummary {
-            name: "nav1".into(),
-            source: "test".into(),
-            duration_h: 15.0,
-            results,
-            improvement_percent: Some(improvement_percent(without_nmi, with_nmi)),
-            paper: None,
-        }],
-    }
+    Summary::example(with_nmi, without_nmi)
 }
 
 /// The limits of `schema = 1`, `[default] max_horizontal_nmi = { "30-state" = 4.0,

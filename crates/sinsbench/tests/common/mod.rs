@@ -102,43 +102,10 @@ pub fn simulate_into(experiment: &Path, out: &Path) {
 /// A `summary.json` with one experiment, `nav1`, whose maximum horizontal error is `with_nmi`
 /// under "42-state" and `without_nmi` under "30-state".
 pub fn gate_summary_json(with_nmi: f64, without_nmi: f64) -> String {
-    use sins_harness::summary::{
-        Comparison, ExperimentSummary, SUMMARY_SCHEMA, SetResult, Summary, improvement_percent,
-    };
-    let result = |nmi: f64| SetResult {
-        max_horizontal_nmi: nmi,
-        max_horizontal_m: nmi * 1852.0,
-        t_max_s: 36_000.0,
-        segment_at_max: "pattern2".into(),
-        rms_horizontal_m: 900.0,
-        final_horizontal_m: 1000.0,
-        navigated_s: 52_800.0,
-        segments: vec![],
-    };
-    let results = [("42-state", with_nmi), ("30-state", without_nmi)]
-        .into_iter()
-        .map(|(k, v)| (k.to_string(), result(v)))
-        .collect();
-    let summary = Summary {
-        schema: SUMMARY_SCHEMA,
-        name: "test".into(),
-        description: String::new(),
-        generated_by: "test".into(),
-        parameter_sets: vec![],
-        comparison: Some(Comparison {
-            baseline: "30-state".into(),
-            compensated: "42-state".into(),
-        }),
-        experiments: vec![ExperimentSummary {
-            name: "nav1".into(),
-            source: "test".into(),
-            duration_h: 15.0,
-            results,
-            improvement_percent: Some(improvement_percent(without_nmi, with_nmi)),
-            paper: None,
-        }],
-    };
-    sins_config::summary_to_json(&summary)
+    sins_config::summary_to_json(&sins_harness::summary::Summary::example(
+        with_nmi,
+        without_nmi,
+    ))
 }
 
 /// Exit code 2 and a message on stderr that contains every one of `needles`.
