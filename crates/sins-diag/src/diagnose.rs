@@ -53,9 +53,8 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         notes.push("no calibration uncertainty given: calibration errors ignored".into());
     }
     // The gaps, the null test and the catalogue's ranking.
-    let (series, base_data) = gaps(input, &sens, pu.as_ref(), &cat.columns, cfg)?;
+    let (series, mut data) = gaps(input, &sens, pu.as_ref(), &cat.columns, cfg)?;
     let floor_var = (cfg.floor_sigma_m.powi(2) - cfg.floor_expected_sigma_m.powi(2)).max(0.0);
-    let mut data = base_data;
     let mut ranking = rank_catalogue(&data, &cat, floor_var, cfg)?;
     // Slow noise an identification left open: fitted on the gap less the leading candidate's
     // fit (a walk fitted on the gap alone absorbs part of a deterministic effect), and the
@@ -63,11 +62,7 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
     let mut unresolved = None;
     if input.noise.unresolved_walk_per_sqrt_s.is_some() {
         let leader = leader_contribution(&ranking.ranked, &data);
-        let explained = leader.as_ref().map(|(_, e)| e.as_slice());
-        unresolved = add_unresolved_walks(&mut data, &input.noise, cfg.null_alpha, explained)?;
-        if let Some(u) = unresolved.as_mut() {
-            u.fitted_without = leader.map(|(kind, _)| kind);
-        }
+        unresolved = add_unresolved_walks(&mut data, &input.noise, cfg.null_alpha, leader)?;
         ranking = rank_catalogue(&data, &cat, floor_var, cfg)?;
     }
     if let Some(u) = &unresolved {

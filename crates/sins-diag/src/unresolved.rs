@@ -41,55 +41,78 @@ pub struct UnresolvedWalks {
 }
 
 /// Fit and add the unresolved walks to `data`'s twin covariances (nothing when the noise model
-/// was given rather than identified). The walks are fitted on the gap less `explained` (per
-/// run, on the fit grid: the leading candidate's fit, so that a deterministic effect is not
-/// taken for noise), or on the gap itself. A walk whose smoothed increments fail the whiteness
-/// test at `level` (an outlier increment, correlated neighbours, increments tied to turn-on:
-/// see [`crate::walk`]) is not noise: it is refused and left to the candidates and the
-/// time-local scan.
+/// was given rather than identified). The walks are fitted on the gap less the `leader`'s fit
+/// (its name and its contribution per run, on the fit grid: so that a deterministic effect is
+/// not taken for noise), or on the gap itself; the gaps are left as they were. A walk whose
+/// smoothed increments fail the whiteness test at `level` (an outlier increment, correlated
+/// neighbours, increments tied to turn-on: see [`crate::walk`]) is not noise: it is refused and
+/// left to the candidates and the time-local scan.
 pub(crate) fn add_unresolved_walks(
     data: &mut [RunFitData],
     noise: &NoiseSpec,
     level: f64,
-    explained: Option<&[DVector<f64>]>,
+    leader: Option<(String, Vec<DVector<f64>>)>,
 ) -> Result<Option<UnresolvedWalks>, DiagError> {
     let Some(bound) = noise.unresolved_walk_per_sqrt_s else {
         return Ok(None);
     };
-    let mut fit_data = data.to_vec();
-    if let Some(e) = explained {
-        for (d, c) in fit_data.iter_mut().zip(e) {
+    let gaps: Vec<DVector<f64>> = data.iter().map(|d| d.gap.clone()).collect();
+    if let Some((_, explained)) = &leader {
+        for (d, c) in data.iter_mut().zip(explained) {
             d.gap -= c;
         }
     }
+    let fitted = fit_walks(data, bound, level);
+    for (d, g) in data.iter_mut().zip(gaps) {
+        d.gap = g;
+    }
+    let (intensity, refused) = fitted?;
+    Ok(Some(UnresolvedWalks {
+        intensity_per_sqrt_s: intensity,
+        bound_per_sqrt_s: bound,
+        refused,
+        fitted_without: leader.map(|(kind, _)| kind),
+    }))
+}
+
+/// Each bias axis in turn: the walk's intensity fitted on `data`, clamped to its triad's bound
+/// and added to the covariances (the stacked problem is rebuilt only after a change); the axes
+/// refused by the whiteness test with their p-values.
+fn fit_walks(
+    data: &mut [RunFitData],
+    bound: [f64; 2],
+    level: f64,
+) -> Result<([f64; 6], Vec<(usize, f64)>), DiagError> {
     let mut intensity = [0.0; 6];
     let mut refused = Vec::new();
+    let mut problem: Option<Problem> = None;
     for (b, k_out) in intensity.iter_mut().enumerate() {
         let k_max = bound[b / 3];
         if !(k_max > 0.0 && k_max.is_finite()) {
             continue;
         }
-        let problem = Problem::new(&fit_data.iter().collect::<Vec<_>>())?;
-        let fit = fit_walk(&problem, &problem.walks[b], &problem.walk_blocks[b], k_max);
+        let p = match problem.take() {
+            Some(p) => p,
+            None => Problem::new(&data.iter().collect::<Vec<_>>())?,
+        };
+        let fit = fit_walk(&p, &p.walks[b], &p.walk_blocks[b], k_max);
         if let Some(shape) = fit.shape.filter(|s| s.p_value <= level) {
             refused.push((b, shape.p_value));
+            problem = Some(p);
             continue;
         }
         let k = fit.intensity.min(k_max);
         if k > 0.0 {
-            for d in data.iter_mut().chain(fit_data.iter_mut()) {
+            for d in data.iter_mut() {
                 let v = &d.walks[b];
                 d.cov += v * v.transpose() * (k * k);
             }
+        } else {
+            problem = Some(p);
         }
         *k_out = k;
     }
-    Ok(Some(UnresolvedWalks {
-        intensity_per_sqrt_s: intensity,
-        bound_per_sqrt_s: bound,
-        refused,
-        fitted_without: None,
-    }))
+    Ok((intensity, refused))
 }
 
 /// The fitted contribution of the leading candidate when it is a passing deterministic one

@@ -24,7 +24,7 @@ pub struct Estimate {
 impl Estimate {
     /// One-sided 95 % upper bound: the given one for a term fitted at zero, else
     /// `value + 1.645 σ`; `None` when the term was not fitted or its σ is unknown.
-    pub fn upper_95(&self) -> Option<f64> {
+    pub fn upper_bound_95(&self) -> Option<f64> {
         match self.upper_95 {
             Some(u) => Some(u),
             None if self.sigma.is_finite() && (self.value > 0.0 || self.sigma > 0.0) => {
@@ -182,7 +182,7 @@ impl IdentifiedNoise {
             if k.value > ONE_SIDED_95_Z * k.sigma {
                 Some(0.0)
             } else {
-                k.upper_95()
+                k.upper_bound_95()
             }
         });
         NoiseSpec {
