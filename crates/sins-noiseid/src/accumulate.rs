@@ -13,6 +13,7 @@
 
 use crate::allan::PooledTau;
 use crate::quant::LatticeDetector;
+use crate::steps::{self, BiasChange};
 use sins_imu::ImuSample;
 use std::collections::BTreeMap;
 
@@ -30,6 +31,23 @@ pub(crate) struct StretchStats {
     pub samples: u64,
     /// Mean rate per channel: gyro rad/s, accelerometer m/s².
     pub mean_rate: [f64; CHANNELS],
+    /// Changes of a bias found inside it ([`crate::steps`]), left out of the Allan sums.
+    pub changes: Vec<StationaryChange>,
+}
+
+/// A change of one channel's bias inside a stationary stretch, in the run's time.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct StationaryChange {
+    /// Channel: gyro x, y, z then accelerometer x, y, z.
+    pub channel: usize,
+    /// When (s, the run's time; to within half of `left_out_s`).
+    pub at_s: f64,
+    /// Length of the data left out around it (s).
+    pub left_out_s: f64,
+    /// Rate after minus rate before (rad/s, m/s²).
+    pub size: f64,
+    /// The peak against the robust scale of the stretch's other windows.
+    pub z: f64,
 }
 
 /// The pooled second differences of all runs, keyed by the averaging factor in samples.
@@ -165,20 +183,25 @@ impl Accumulator {
             }
         }
         let nb = o.bins.len();
+        let tau0_s = self.bin as f64 * self.h_s;
+        let z_crit = steps::threshold(nb);
+        let changes: Vec<Vec<BiasChange>> = (0..CHANNELS)
+            .map(|c| {
+                let x: Vec<f64> = o.bins.iter().map(|b| b[c]).collect();
+                let quantum = self.lattice.get(c).and_then(|l| l.quantum());
+                steps::scan_channel(c, &x, tau0_s, z_crit, quantum)
+            })
+            .collect();
+        let pieces: Vec<_> = changes.iter().map(|ch| steps::pieces(nb, ch)).collect();
         let mut mb = 2usize;
         while 2 * mb < nb {
-            let mut ss = [0.0; CHANNELS];
-            for k in 0..nb - 2 * mb {
-                let (a, b, c2) = (&o.bins[k], &o.bins[k + mb], &o.bins[k + 2 * mb]);
-                for c in 0..CHANNELS {
-                    let d = c2[c] - 2.0 * b[c] + a[c];
-                    ss[c] += d * d;
-                }
-            }
             let m = (mb * self.bin) as u64;
-            let entry = self.entry(m);
-            for c in 0..CHANNELS {
-                entry[c].add(index, ss[c], (nb - 2 * mb) as u64, nb as u64, mb as u64);
+            for (c, channel_pieces) in pieces.iter().enumerate() {
+                for piece in channel_pieces {
+                    let bins = &o.bins[piece.clone()];
+                    let (ss, count) = bin_second_differences(bins, c, mb);
+                    self.entry(m)[c].add(index, ss, count, bins.len() as u64, mb as u64);
+                }
             }
             mb *= 2;
         }
@@ -188,6 +211,17 @@ impl Accumulator {
             start_s: o.start_s,
             samples: o.points,
             mean_rate,
+            changes: changes
+                .into_iter()
+                .flatten()
+                .map(|c| StationaryChange {
+                    channel: c.channel,
+                    at_s: o.start_s + c.at_bin as f64 * tau0_s,
+                    left_out_s: 2.0 * c.half_width_bins as f64 * tau0_s,
+                    size: c.size,
+                    z: c.z,
+                })
+                .collect(),
         });
     }
 
@@ -200,4 +234,17 @@ impl Accumulator {
             })
         })
     }
+}
+
+/// Squared second differences of channel `c` at a stride of `mb` bin points, and their count.
+fn bin_second_differences(bins: &[[f64; CHANNELS]], c: usize, mb: usize) -> (f64, u64) {
+    if bins.len() <= 2 * mb {
+        return (0.0, 0);
+    }
+    let mut ss = 0.0;
+    for k in 0..bins.len() - 2 * mb {
+        let d = bins[k + 2 * mb][c] - 2.0 * bins[k + mb][c] + bins[k][c];
+        ss += d * d;
+    }
+    (ss, (bins.len() - 2 * mb) as u64)
 }

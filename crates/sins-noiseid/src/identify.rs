@@ -9,7 +9,8 @@ use crate::fit::{FitData, Point, ProfiledFit, fit_profiled};
 use crate::model::{TERMS, Term};
 use crate::quant::ramp_quantization_avar;
 use crate::result::{
-    AllanCurve, Estimate, IdentifiedNoise, RunUsage, SensorNoise, StretchReport, instability_of,
+    AllanCurve, ChangeReport, Estimate, IdentifiedNoise, RunUsage, SensorNoise, StretchReport,
+    instability_of,
 };
 use sins_diag::source::SampleSource;
 use sins_imu::{Compensator, ImuErrorParams};
@@ -230,7 +231,7 @@ pub fn identify_noise(
         .iter()
         .map(|s| stretch_report(s, &runs[s.run], h_s))
         .collect();
-    Ok(IdentifiedNoise {
+    let mut id = IdentifiedNoise {
         gyro: gyro_sum,
         accel: accel_sum,
         gyro_axes,
@@ -240,7 +241,9 @@ pub fn identify_noise(
         stretches,
         sample_interval_s: h_s,
         notes,
-    })
+    };
+    id.notes.extend(id.change_notes());
+    Ok(id)
 }
 
 fn stretch_report(s: &StretchStats, run: &RunStationary<'_>, h_s: f64) -> StretchReport {
@@ -263,6 +266,17 @@ fn stretch_report(s: &StretchStats, run: &RunStationary<'_>, h_s: f64) -> Stretc
         duration_s: s.samples as f64 * h_s,
         gyro_residual_radps: gyro,
         accel_residual_mps2: accel,
+        changes: s
+            .changes
+            .iter()
+            .map(|c| ChangeReport {
+                channel: CHANNEL_NAMES[c.channel].to_string(),
+                at_s: c.at_s,
+                left_out_s: c.left_out_s,
+                size: c.size,
+                z: c.z,
+            })
+            .collect(),
     }
 }
 

@@ -32,8 +32,11 @@ pub mod model;
 pub mod quant;
 pub mod result;
 mod spectrum;
+pub mod steps;
 
 pub use config::NoiseIdConfig;
 pub use error::NoiseIdError;
 pub use identify::{CORRELATION_CAP, RunStationary, identify_noise};
-pub use result::{AllanCurve, Estimate, IdentifiedNoise, RunUsage, SensorNoise, StretchReport};
+pub use result::{
+    AllanCurve, ChangeReport, Estimate, IdentifiedNoise, RunUsage, SensorNoise, StretchReport,
+};

@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 use sins_diag::noise::NoiseSpec;
+use sins_nav::{DEG_PER_H, G0_MPS2};
 use sins_sim::NoiseModel;
 use sins_sim::noise::GM_ALLAN_PEAK_RATIO;
 
@@ -124,6 +125,26 @@ pub struct StretchReport {
     pub gyro_residual_radps: Option<[f64; 3]>,
     /// Mean specific force minus `−g` in body axes (m/s²).
     pub accel_residual_mps2: Option<[f64; 3]>,
+    /// Changes of a bias found inside the stretch and left out of the Allan sums.
+    #[serde(default)]
+    pub changes: Vec<ChangeReport>,
+}
+
+/// A change of one channel's bias found inside a stationary stretch ([`crate::steps`]): not
+/// noise, so the data around it are left out of the Allan sums; the navigation data still
+/// carry it, for the diagnosis to find.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ChangeReport {
+    /// `gyro_x` … `accel_z`.
+    pub channel: String,
+    /// When (s, the run's time), to within half of `left_out_s`.
+    pub at_s: f64,
+    /// Length of the data left out around it (s).
+    pub left_out_s: f64,
+    /// Rate after minus rate before (rad/s for a gyro, m/s² for an accelerometer).
+    pub size: f64,
+    /// The change against the robust scale of the stretch's window differences.
+    pub z: f64,
 }
 
 /// The identified noise of the IMU.
@@ -192,6 +213,31 @@ impl IdentifiedNoise {
             },
             ..NoiseSpec::from(&self.to_noise_model())
         }
+    }
+
+    /// One line per change of a bias found inside a stationary stretch (paper units), for the
+    /// notes of the identification and of a diagnosis that uses it.
+    pub fn change_notes(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        for s in &self.stretches {
+            for c in &s.changes {
+                let (unit, per) = if c.channel.starts_with("gyro") {
+                    ("deg/h", DEG_PER_H)
+                } else {
+                    ("ug", 1e-6 * G0_MPS2)
+                };
+                out.push(format!(
+                    "{}: the bias changes by {:.4} {unit} at {:.0} s of run {} (z = {:.1}) inside a stationary stretch; the {:.0} s around it are left out of the noise identification (a change is not noise: the diagnosis sees it in the navigation data)",
+                    c.channel,
+                    c.size / per,
+                    c.at_s,
+                    s.run,
+                    c.z,
+                    c.left_out_s
+                ));
+            }
+        }
+        out
     }
 
     /// Total stationary time used over all runs (s).

@@ -204,11 +204,12 @@ pub fn run_case(
     let generate_s = t.elapsed().as_secs_f64();
     // From here on the diagnosis sees only files and the calibrated parameter set.
     let t = Instant::now();
-    let noise = if cfg.identified_noise {
+    let (noise, noise_notes) = if cfg.identified_noise {
         let labels = sins_noiseid::NoiseIdConfig::default().labels;
-        crate::identify_datasets(&datasets, &labels, Some(&cal.params))?.to_noise_spec()
+        let id = crate::identify_datasets(&datasets, &labels, Some(&cal.params))?;
+        (id.to_noise_spec(), id.change_notes())
     } else {
-        noise
+        (noise, Vec::new())
     };
     let request = DiagnoseRequest {
         datasets,
@@ -219,7 +220,8 @@ pub fn run_case(
         calibration_run: Some(CALIBRATION_RUN.to_string()),
         config: cfg.diagnose.clone(),
     };
-    let outcome = diagnose_datasets(&request)?;
+    let mut outcome = diagnose_datasets(&request)?;
+    outcome.diagnosis.notes.splice(0..0, noise_notes);
     crate::write_diagnosis(&case_dir, "diagnosis", &outcome)?;
     let timing = CaseTiming {
         case: answer.case.clone(),
