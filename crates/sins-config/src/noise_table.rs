@@ -10,6 +10,9 @@
 //! ...
 //! [imu.noise_sigma]     # optional: 1-sigma of each figure, same keys and units
 //! gyro_arw_deg_per_sqrt_h = 0.00002
+//! [imu.unresolved_walk] # optional: the rate random walks the data could not exclude
+//! gyro_deg_per_h_per_sqrt_h = 0.0031   # 95 % upper bounds; 0 where the walk was resolved
+//! accel_ug_per_sqrt_h = 2.4
 //! ```
 //!
 //! [`load_noise`] reads either such a file or a whole experiment file (the noise of its first
@@ -39,6 +42,10 @@ pub struct NoiseTable {
     pub noise: NoiseModel,
     /// 1-sigma of every field of `noise` (SI, same layout), when the file gives them.
     pub sigma: Option<NoiseModel>,
+    /// The rate random walks the identification could not exclude, gyro (rad/s/√s) and
+    /// accelerometer (m/s²/√s): 95 % upper bounds, 0 for a walk it resolved; `None` when the
+    /// file has no `[imu.unresolved_walk]` (an experiment never has).
+    pub unresolved_walk_per_sqrt_s: Option<[f64; 2]>,
     /// The file's description.
     pub description: String,
     /// Whether it came from a noise file (`kind = "noise"`) rather than an experiment.
@@ -63,7 +70,21 @@ struct NoiseOnlyFile {
 struct NoiseImu {
     noise: NoiseFile,
     noise_sigma: Option<SigmaFile>,
+    unresolved_walk: Option<WalkFile>,
 }
+
+/// `[imu.unresolved_walk]`: 95 % upper bounds of the rate random walks, paper units.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct WalkFile {
+    gyro_deg_per_h_per_sqrt_h: f64,
+    accel_ug_per_sqrt_h: f64,
+}
+
+/// deg/h/√h in rad/s/√s.
+const DEG_PER_H_PER_SQRT_H: f64 = DEG_PER_H / 60.0;
+/// ug/√h in m/s²/√s.
+const UG_PER_SQRT_H: f64 = UG / 60.0;
 
 #[derive(Default, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -103,6 +124,7 @@ pub fn load_noise(path: impl AsRef<Path>) -> Result<NoiseTable, ConfigError> {
         return Ok(NoiseTable {
             noise,
             sigma: None,
+            unresolved_walk_per_sqrt_s: None,
             description: exp.description,
             from_noise_file: false,
             source_path: path.to_owned(),
@@ -116,13 +138,39 @@ pub fn load_noise(path: impl AsRef<Path>) -> Result<NoiseTable, ConfigError> {
         Some(s) => Some(sigma_model(&ctx, s)?),
         None => None,
     };
+    let unresolved_walk_per_sqrt_s = match &raw.imu.unresolved_walk {
+        Some(w) => Some(walk_bounds(&ctx, w)?),
+        None => None,
+    };
     Ok(NoiseTable {
         noise,
         sigma,
+        unresolved_walk_per_sqrt_s,
         description: raw.description,
         from_noise_file: true,
         source_path: path.to_owned(),
     })
+}
+
+fn walk_bounds(ctx: &Ctx<'_>, w: &WalkFile) -> Result<[f64; 2], ConfigError> {
+    let check = |name: &str, v: f64, unit: f64| {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v * unit)
+        } else {
+            Err(ctx.invalid(
+                &format!("imu.unresolved_walk.{name}"),
+                format!("a bound must be finite and >= 0, got {v}"),
+            ))
+        }
+    };
+    Ok([
+        check(
+            "gyro_deg_per_h_per_sqrt_h",
+            w.gyro_deg_per_h_per_sqrt_h,
+            DEG_PER_H_PER_SQRT_H,
+        )?,
+        check("accel_ug_per_sqrt_h", w.accel_ug_per_sqrt_h, UG_PER_SQRT_H)?,
+    ])
 }
 
 fn sigma_model(ctx: &Ctx<'_>, s: &SigmaFile) -> Result<NoiseModel, ConfigError> {
@@ -209,11 +257,14 @@ fn number(v: f64) -> String {
     }
 }
 
-/// A noise file (`kind = "noise"`) of `noise` with its optional 1-sigma, `comments` as leading
-/// `#` lines (e.g. how it was identified) and `description`.
+/// A noise file (`kind = "noise"`) of `noise` with its optional 1-sigma and unresolved rate
+/// random walks (gyro rad/s/√s, accelerometer m/s²/√s; see
+/// [`NoiseTable::unresolved_walk_per_sqrt_s`]), `comments` as leading `#` lines (e.g. how it
+/// was identified) and `description`.
 pub fn noise_to_toml(
     noise: &NoiseModel,
     sigma: Option<&NoiseModel>,
+    unresolved_walk_per_sqrt_s: Option<[f64; 2]>,
     description: &str,
     comments: &[String],
 ) -> String {
@@ -236,6 +287,18 @@ pub fn noise_to_toml(
             out.push_str(&format!("{key} = {}\n", number(v)));
         }
     }
+    if let Some([g, a]) = unresolved_walk_per_sqrt_s {
+        out.push_str(
+            "\n# Rate random walks the stationary data could not exclude (95 % upper bounds; 0 where\n\
+             # the walk was resolved): the diagnosis fits walks up to these on the navigation gap.\n\
+             [imu.unresolved_walk]\n",
+        );
+        out.push_str(&format!(
+            "gyro_deg_per_h_per_sqrt_h = {}\naccel_ug_per_sqrt_h = {}\n",
+            number(g / DEG_PER_H_PER_SQRT_H),
+            number(a / UG_PER_SQRT_H)
+        ));
+    }
     out
 }
 
@@ -244,11 +307,18 @@ pub fn write_noise(
     path: impl AsRef<Path>,
     noise: &NoiseModel,
     sigma: Option<&NoiseModel>,
+    unresolved_walk_per_sqrt_s: Option<[f64; 2]>,
     description: &str,
     comments: &[String],
 ) -> Result<(), ConfigError> {
     let path = path.as_ref();
-    let text = noise_to_toml(noise, sigma, description, comments);
+    let text = noise_to_toml(
+        noise,
+        sigma,
+        unresolved_walk_per_sqrt_s,
+        description,
+        comments,
+    );
     write_file_atomically(path, text.as_bytes()).map_err(|source| ConfigError::Io {
         path: path.to_owned(),
         source,
@@ -286,6 +356,7 @@ mod tests {
             &path,
             &model(),
             Some(&sigma),
+            Some([3.3e-9, 0.0]),
             "test \"quoted\"",
             &["line one\nline two".into()],
         )
@@ -308,19 +379,26 @@ mod tests {
         let s = t.sigma.expect("sigma");
         assert!(close(s.gyro_arw_rad_per_sqrt_s, 2e-9));
         assert!(s.gyro_bias_correlation_s.is_infinite());
+        let [g, a] = t.unresolved_walk_per_sqrt_s.expect("walk bounds");
+        assert!(close(g, 3.3e-9) && a == 0.0, "{g} {a}");
     }
 
     #[test]
     fn noise_file_refuses_unknown_keys_and_an_experiment_still_loads() {
         let dir = tempfile::tempdir().expect("tempdir");
         let path = dir.path().join("bad.toml");
-        let text = noise_to_toml(&model(), None, "x", &[])
+        let text = noise_to_toml(&model(), None, None, "x", &[])
             .replace("[imu.noise]\n", "[imu.noise]\ngyro_typo = 1.0\n");
         std::fs::write(&path, text).expect("write");
         let e = load_noise(&path)
             .expect_err("unknown key refused")
             .to_string();
         assert!(e.contains("gyro_typo") && e.contains("bad.toml"), "{e}");
+        let negative = noise_to_toml(&model(), None, Some([1e-9, 1e-6]), "x", &[])
+            .replace("accel_ug_per_sqrt_h = ", "accel_ug_per_sqrt_h = -");
+        std::fs::write(&path, negative).expect("write");
+        let e = load_noise(&path).expect_err("negative bound").to_string();
+        assert!(e.contains("imu.unresolved_walk.accel_ug_per_sqrt_h"), "{e}");
         let exp =
             Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments/paper_navigation.toml");
         let t = load_noise(&exp).expect("experiment");

@@ -69,7 +69,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     };
     let (parent, name) = crate::outputs::output_dir(&args.out, "diagnose")?;
     let set = sins_config::load_params(&args.params)?;
-    let (noise, noise_note) = match &args.noise_from {
+    let (noise, noise_notes) = match &args.noise_from {
         Some(path) => {
             let table = sins_config::load_noise(path)?;
             let what = if table.from_noise_file {
@@ -77,9 +77,20 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             } else {
                 "[imu.noise] of experiment"
             };
+            let walks = match table.unresolved_walk_per_sqrt_s {
+                Some([g, a]) => format!(
+                    "; rate random walks it could not exclude, fitted on the gap up to {:.3e} deg/h/√h (gyro) and {:.3} ug/√h (accel)",
+                    g / (sins_nav::DEG_PER_H / 60.0),
+                    a / (sins_nav::UG / 60.0)
+                ),
+                None => String::new(),
+            };
             (
-                NoiseSpec::from(&table.noise),
-                format!("twin noise: the {what} {}", path.display()),
+                NoiseSpec {
+                    unresolved_walk_per_sqrt_s: table.unresolved_walk_per_sqrt_s,
+                    ..NoiseSpec::from(&table.noise)
+                },
+                vec![format!("twin noise: the {what} {}{walks}", path.display())],
             )
         }
         None => {
@@ -92,15 +103,16 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             let id = sins_gap::identify_datasets(&datasets, &args.noise_labels, Some(&set.params))
                 .context("no --noise-from was given, so the noise is identified from the data (give --noise-from FILE to use a file instead)")?;
             let line = crate::noise::one_line(&id);
-            (
-                id.to_noise_spec(),
-                format!(
-                    "twin noise: identified from the data's stationary segments (sinsbench noise): {line}"
-                ),
-            )
+            let mut notes = vec![format!(
+                "twin noise: identified from the data's stationary segments (sinsbench noise): {line}"
+            )];
+            notes.extend(id.change_notes());
+            (id.to_noise_spec(), notes)
         }
     };
-    say!("{noise_note}")?;
+    for n in &noise_notes {
+        say!("{n}")?;
+    }
     let config = DiagnoseConfig {
         candidates: args.candidates.clone(),
         threads: args.threads,
@@ -126,7 +138,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         config,
     })?;
     let mut outcome = outcome;
-    outcome.diagnosis.notes.insert(0, noise_note);
+    outcome.diagnosis.notes.splice(0..0, noise_notes);
     let dir = write_diagnosis(&parent, &name, &outcome)?;
     say!("verdict: {:?}", outcome.diagnosis.verdict)?;
     for c in outcome.diagnosis.candidates.iter().take(3) {

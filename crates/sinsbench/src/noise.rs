@@ -299,6 +299,7 @@ fn write_outputs(
         let toml = sins_config::noise_to_toml(
             &id.to_noise_model(),
             Some(&sigma_model(id)),
+            id.to_noise_spec().unresolved_walk_per_sqrt_s,
             &description,
             &comments,
         );
