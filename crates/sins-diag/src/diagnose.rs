@@ -6,33 +6,26 @@
 
 use crate::calib::uncertainty;
 use crate::error::DiagError;
+use crate::events::EventScan;
 use crate::gaps::{Catalogue, catalogue, gaps};
 use crate::input::{DiagnoseConfig, DiagnosisInput};
-use crate::localise::localise;
+use crate::localise::{GapSeries, localise};
 use crate::problem::{Problem, RunFitData};
 use crate::rank::{
     Evaluated, NullDist, TestContext, evaluate, finish_ranking, regression_evaluated, verdict,
 };
 use crate::refine::{RefineStart, Refinement, refine};
-use crate::report::{ChiSquareTest, Diagnosis};
+use crate::report::{ChiSquareTest, Diagnosis, RunLocalisation};
 use crate::sensitivity::RunSensitivity;
 use crate::timelocal::{ScanScope, leader, ranked_without_events, time_local_events, with_events};
 use crate::twin::{base_setup, calibration_absorption, sensitivities};
-use crate::unresolved::{add_unresolved_walks, leader_contribution};
+use crate::unresolved::{add_unresolved_walks, leader_contribution, widen_envelopes};
 use crate::winner::{WinnerScope, winner_constancy, winner_series};
 use sins_imu::EffectKind;
 
 /// Diagnose the gap between the real runs and their twin.
 pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diagnosis, DiagError> {
-    if input.runs.is_empty() {
-        return Err(DiagError::input("", "no run to diagnose"));
-    }
-    if cfg.output_interval_s == 0 || !cfg.fit_interval_s.is_multiple_of(cfg.output_interval_s) {
-        return Err(DiagError::input(
-            "",
-            "the fit interval must be a whole multiple of the output interval",
-        ));
-    }
+    check_request(input, cfg)?;
     let kinds = cfg.candidate_kinds().map_err(|e| DiagError::input("", e))?;
     // The twin: sensitivities, noise covariance, the calibration run's absorption.
     let mut sens = sensitivities(input, cfg, &kinds)?;
@@ -53,20 +46,21 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         notes.push("no calibration uncertainty given: calibration errors ignored".into());
     }
     // The gaps, the null test and the catalogue's ranking.
-    let (series, mut data) = gaps(input, &sens, pu.as_ref(), &cat.columns, cfg)?;
+    let (mut series, mut data) = gaps(input, &sens, pu.as_ref(), &cat.columns, cfg)?;
     let floor_var = (cfg.floor_sigma_m.powi(2) - cfg.floor_expected_sigma_m.powi(2)).max(0.0);
     let mut ranking = rank_catalogue(&data, &cat, floor_var, cfg)?;
-    // Slow noise an identification left open: fitted on the gap less the leading candidate's
-    // fit (a walk fitted on the gap alone absorbs part of a deterministic effect), and the
-    // catalogue ranked again with it in the twin.
-    let mut unresolved = None;
-    if input.noise.unresolved_walk_per_sqrt_s.is_some() {
-        let leader = leader_contribution(&ranking.ranked, &data);
-        unresolved = add_unresolved_walks(&mut data, &input.noise, cfg.null_alpha, leader)?;
+    // Slow noise an identification left open, fitted on the gap less the leading candidate's
+    // fit (a walk fitted on the gap alone absorbs part of a deterministic effect).
+    let leading_fit = input
+        .noise
+        .unresolved_walk_per_sqrt_s
+        .and_then(|_| leader_contribution(&ranking.ranked, &data));
+    if let Some(u) = add_unresolved_walks(&mut data, &input.noise, cfg.null_alpha, leading_fit)? {
+        // The catalogue ranked again with the walks in the twin, whose envelope they widen.
         ranking = rank_catalogue(&data, &cat, floor_var, cfg)?;
-    }
-    if let Some(u) = &unresolved {
         notes.push(u.note());
+        let index: Vec<&[usize]> = sens.iter().map(|s| s.times.fit_index.as_slice()).collect();
+        widen_envelopes(&mut series, &data, &index, &u);
     }
     let Ranking {
         problem,
@@ -107,31 +101,14 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         floor_var,
         cfg,
     )? {
-        notes.push(format!(
-            "catalogue ranked again on the gap less the {} time-local event(s) outside it: the \
-             leader was {}, it is now {}",
-            events
-                .events
-                .iter()
-                .filter(|e| e.explained_by.is_none())
-                .count(),
-            leader(&ranked),
-            leader(&again)
-        ));
+        notes.push(ranked_again_note(&events, &ranked, &again));
         ranked = again;
     }
     // The verdict, the localisation, the winner's series and validation.
     let names: Vec<String> = input.runs.iter().map(|r| r.name.clone()).collect();
     winner_constancy(&mut ranked, &refinements, &problem, &names, cfg)?;
     let verdict = with_events(verdict(&problem, &ranked, &null, cfg), &events, &mut notes);
-    let schuler = (sens[0].model.earth.gravity_mps2 / sens[0].model.earth.meridian_plus_h_m).sqrt();
-    let mut localisation = Vec::new();
-    for ((r, s), fd) in input.runs.iter().zip(&series).zip(&data) {
-        let p = Problem::new(&[fd])?;
-        let (m, v) = p.null_moments(floor_var);
-        let test = NullDist::from_moments(m, v).test(p.gls.chi2(), 0, cfg.null_alpha);
-        localisation.push(localise(s, &r.segment_labels, schuler, test));
-    }
+    let localisation = localise_runs(input, &sens, &series, &data, floor_var, cfg)?;
     let winner = ranked
         .first()
         .filter(|e| e.report.passes && e.regression.is_some());
@@ -157,6 +134,56 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         series: run_series,
         notes,
     })
+}
+
+/// The note on the catalogue ranked again without the time-local events outside it.
+fn ranked_again_note(events: &EventScan, before: &[Evaluated], after: &[Evaluated]) -> String {
+    let outside = events
+        .events
+        .iter()
+        .filter(|e| e.explained_by.is_none())
+        .count();
+    format!(
+        "catalogue ranked again on the gap less the {outside} time-local event(s) outside it: the \
+         leader was {}, it is now {}",
+        leader(before),
+        leader(after)
+    )
+}
+
+/// Refuse a request the stages cannot serve.
+fn check_request(input: &DiagnosisInput, cfg: &DiagnoseConfig) -> Result<(), DiagError> {
+    if input.runs.is_empty() {
+        return Err(DiagError::input("", "no run to diagnose"));
+    }
+    if cfg.output_interval_s == 0 || !cfg.fit_interval_s.is_multiple_of(cfg.output_interval_s) {
+        return Err(DiagError::input(
+            "",
+            "the fit interval must be a whole multiple of the output interval",
+        ));
+    }
+    Ok(())
+}
+
+/// Each run's gap localised, with its own null test.
+fn localise_runs(
+    input: &DiagnosisInput,
+    sens: &[RunSensitivity],
+    series: &[GapSeries],
+    data: &[RunFitData],
+    floor_var: f64,
+    cfg: &DiagnoseConfig,
+) -> Result<Vec<RunLocalisation>, DiagError> {
+    let earth = &sens[0].model.earth;
+    let schuler = (earth.gravity_mps2 / earth.meridian_plus_h_m).sqrt();
+    let mut localisation = Vec::new();
+    for ((r, s), fd) in input.runs.iter().zip(series).zip(data) {
+        let p = Problem::new(&[fd])?;
+        let (m, v) = p.null_moments(floor_var);
+        let test = NullDist::from_moments(m, v).test(p.gls.chi2(), 0, cfg.null_alpha);
+        localisation.push(localise(s, &r.segment_labels, schuler, test));
+    }
+    Ok(localisation)
 }
 
 /// What the refinement of the leaders reads of the diagnosis so far.

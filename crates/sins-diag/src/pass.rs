@@ -76,65 +76,32 @@ pub fn run_pass(
     inp: &PassInput<'_>,
     bank: &mut ColumnBank,
     noise: &mut NoiseProp,
-    mut correction: Option<&mut Box<dyn ExtraEffect>>,
+    correction: Option<&mut Box<dyn ExtraEffect>>,
 ) -> Result<PassTimes, DiagError> {
     let h = source.sample_interval_s();
     let t0 = source.start_time_s();
     let run = inp.run;
     let rep = inp.replica;
-    let comp = Compensator::new(*inp.params)
-        .ok_or_else(|| DiagError::input(run, "parameter set is singular"))?;
-    let spb = (1.0 / h).round() as usize;
-    if spb == 0 || ((spb as f64) * h - 1.0).abs() > 1e-9 {
-        return Err(DiagError::input(
-            run,
-            format!("sample interval {h} s does not divide one second"),
-        ));
-    }
-    let phi_update = rep.phi_update;
-    let phi_bin = inp.model.transition(spb as f64 * h);
-    let earth_rate = inp.model.earth.earth_rate_ned_radps;
-    let q_earth_sample = quat_from_rotation_vector(&(-earth_rate * h));
-    // Attitude anchors: (index of the sample ending at the point, attitude).
-    let mut anchors: Vec<(usize, Quat)> = inp
-        .track
-        .iter()
-        .map(|p| {
-            let k = ((p.t_s - t0) / h).round() as i64 - 1;
-            (k.max(0) as usize, p.ned_from_body)
-        })
-        .collect();
-    anchors.sort_by_key(|a| a.0);
-
-    let mut st = State {
-        i: 0,
-        phase: Phase::Coarse,
-        sum_dtheta: Vec3::zeros(),
-        sum_dv: Vec3::zeros(),
-        q: Quat::identity(),
-        c_align: sins_nav::Mat3::identity(),
-        bin_end: rep.n_coarse,
-        update_k: 0,
-        nav_bins: 0,
-        att: AttitudeMoments::default(),
-        times: PassTimes {
-            start_s: t0,
-            nav_start_s: t0 + rep.n_total as f64 * h,
-            ..Default::default()
-        },
-        bin_start: 0,
-        c_prev: None,
+    let mut feed = Feed {
+        comp: Compensator::new(*inp.params)
+            .ok_or_else(|| DiagError::input(run, "parameter set is singular"))?,
+        h,
+        temperatures: inp.temperatures,
+        reference_temperature_degc: inp.params.reference_temperature_degc,
+        tracker: ContextTracker::new(),
+        corrected: ContextTracker::new(),
+        correction,
     };
+    let spb = samples_per_second(h, run)?;
     let consts = Consts {
         h,
         spb,
-        phi_update,
-        phi_bin,
-        q_earth_sample,
+        phi_update: rep.phi_update,
+        phi_bin: inp.model.transition(spb as f64 * h),
+        q_earth_sample: quat_from_rotation_vector(&(-inp.model.earth.earth_rate_ned_radps * h)),
     };
-    let mut tracker = ContextTracker::new();
-    let mut corrected = ContextTracker::new();
-    let dtemp_ref = inp.params.reference_temperature_degc;
+    let anchors = attitude_anchors(inp.track, t0, h);
+    let mut st = State::new(rep, t0, h);
     // Each sample is processed once the next one is known (its gyro increment enters the
     // second-order quadrature of the attitude, see `effective_attitude`).
     let mut pending: Option<(SampleInputs, u16)> = None;
@@ -142,31 +109,15 @@ pub fn run_pass(
     let mut anchor_cursor = 0usize;
     source.visit(&mut |samples: &[ImuSample], segments: &[u16]| {
         for (s, &seg) in samples.iter().zip(segments) {
-            let dtheta = comp.dtheta_rad(&s.dtheta_rad, h);
-            let dv = comp.dv_mps(&s.dv_mps, h, &s.temp_degc);
-            let rate = inp.temperatures.rate_at(s.t_s - 0.5 * h);
-            let mut ctx = tracker.next(s.t_s, h, dtheta, dv, s.temp_degc, rate);
-            let (mut dtheta, mut dv) = (dtheta, dv);
-            if let Some(c) = correction.as_deref_mut() {
-                let (p_theta, p_v) = c.perturbation(&ctx);
-                dtheta -= p_theta;
-                dv -= p_v;
-                ctx = corrected.next(s.t_s, h, dtheta, dv, s.temp_degc, rate);
-            }
-            let inputs = SampleInputs {
-                h_s: h,
-                dtheta_rad: dtheta,
-                dv_mps: dv,
-                dtemp_degc: s.temp_degc.map(|t| t - dtemp_ref),
-                ctx,
-            };
+            let inputs = feed.inputs(s);
             if let Some((prev, prev_seg)) = pending.take() {
                 let theta = prev.dtheta_rad;
+                let next = &inputs.dtheta_rad;
                 st.sample(
                     &prev,
                     prev_seg,
                     &theta_prev,
-                    &dtheta,
+                    next,
                     inp,
                     &consts,
                     bank,
@@ -193,6 +144,67 @@ pub fn run_pass(
         ));
     }
     Ok(st.times)
+}
+
+/// Samples per second; an error unless the sample interval divides one second.
+fn samples_per_second(h: f64, run: &str) -> Result<usize, DiagError> {
+    let spb = (1.0 / h).round() as usize;
+    if spb == 0 || ((spb as f64) * h - 1.0).abs() > 1e-9 {
+        return Err(DiagError::input(
+            run,
+            format!("sample interval {h} s does not divide one second"),
+        ));
+    }
+    Ok(spb)
+}
+
+/// The real track's attitudes as anchors: (index of the sample ending at the point, attitude),
+/// in sample order.
+fn attitude_anchors(track: &[ErrorPoint], t0: f64, h: f64) -> Vec<(usize, Quat)> {
+    let mut anchors: Vec<(usize, Quat)> = track
+        .iter()
+        .map(|p| {
+            let k = ((p.t_s - t0) / h).round() as i64 - 1;
+            (k.max(0) as usize, p.ned_from_body)
+        })
+        .collect();
+    anchors.sort_by_key(|a| a.0);
+    anchors
+}
+
+/// What turns a raw sample into the columns' inputs: the compensation, the context of the
+/// effects (temperature rates included) and an optional fitted effect's perturbation removed.
+struct Feed<'a, 'c> {
+    comp: Compensator,
+    h: f64,
+    temperatures: &'a TemperatureSeries,
+    reference_temperature_degc: f64,
+    tracker: ContextTracker,
+    corrected: ContextTracker,
+    correction: Option<&'c mut Box<dyn ExtraEffect>>,
+}
+
+impl Feed<'_, '_> {
+    fn inputs(&mut self, s: &ImuSample) -> SampleInputs {
+        let h = self.h;
+        let mut dtheta = self.comp.dtheta_rad(&s.dtheta_rad, h);
+        let mut dv = self.comp.dv_mps(&s.dv_mps, h, &s.temp_degc);
+        let rate = self.temperatures.rate_at(s.t_s - 0.5 * h);
+        let mut ctx = self.tracker.next(s.t_s, h, dtheta, dv, s.temp_degc, rate);
+        if let Some(c) = self.correction.as_deref_mut() {
+            let (p_theta, p_v) = c.perturbation(&ctx);
+            dtheta -= p_theta;
+            dv -= p_v;
+            ctx = self.corrected.next(s.t_s, h, dtheta, dv, s.temp_degc, rate);
+        }
+        SampleInputs {
+            h_s: h,
+            dtheta_rad: dtheta,
+            dv_mps: dv,
+            dtemp_degc: s.temp_degc.map(|t| t - self.reference_temperature_degc),
+            ctx,
+        }
+    }
 }
 
 /// Constants of a pass.
@@ -242,6 +254,29 @@ struct State {
 }
 
 impl State {
+    /// The state before the first sample of a run starting at `t0` (s), samples `h` apart.
+    fn new(rep: &AlignmentReplica, t0: f64, h: f64) -> Self {
+        State {
+            i: 0,
+            phase: Phase::Coarse,
+            sum_dtheta: Vec3::zeros(),
+            sum_dv: Vec3::zeros(),
+            q: Quat::identity(),
+            c_align: sins_nav::Mat3::identity(),
+            bin_end: rep.n_coarse,
+            update_k: 0,
+            nav_bins: 0,
+            att: AttitudeMoments::default(),
+            times: PassTimes {
+                start_s: t0,
+                nav_start_s: t0 + rep.n_total as f64 * h,
+                ..Default::default()
+            },
+            bin_start: 0,
+            c_prev: None,
+        }
+    }
+
     /// Process one sample with the gyro increments of its neighbours.
     #[allow(clippy::too_many_arguments)]
     fn sample(

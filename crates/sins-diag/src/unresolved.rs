@@ -18,6 +18,7 @@
 //! of the joint likelihood). A walk beyond the bound stays a candidate.
 
 use crate::error::DiagError;
+use crate::localise::GapSeries;
 use crate::noise::NoiseSpec;
 use crate::problem::{Problem, RunFitData};
 use crate::rank::Evaluated;
@@ -75,6 +76,9 @@ pub(crate) fn add_unresolved_walks(
     }))
 }
 
+/// The intensity added on each of the six bias axes, and the refused axes with their p-values.
+type FittedWalks = ([f64; 6], Vec<(usize, f64)>);
+
 /// Each bias axis in turn: the walk's intensity fitted on `data`, clamped to its triad's bound
 /// and added to the covariances (the stacked problem is rebuilt only after a change); the axes
 /// refused by the whiteness test with their p-values.
@@ -82,7 +86,7 @@ fn fit_walks(
     data: &mut [RunFitData],
     bound: [f64; 2],
     level: f64,
-) -> Result<([f64; 6], Vec<(usize, f64)>), DiagError> {
+) -> Result<FittedWalks, DiagError> {
     let mut intensity = [0.0; 6];
     let mut refused = Vec::new();
     let mut problem: Option<Problem> = None;
@@ -134,6 +138,56 @@ pub(crate) fn leader_contribution(
         })
         .collect();
     Some((l.kind.name().to_string(), contributions))
+}
+
+/// Widen each run's plotted 1-sigma envelope by the walks added to its twin: the walks'
+/// position variance `Σ_b K_b² diag(V_b V_bᵀ)` at each fit point, interpolated linearly in
+/// variance onto the output grid (held at the first and last fit point's value beyond them).
+/// `fit_index[r]` maps run `r`'s fit points into its output grid.
+pub(crate) fn widen_envelopes(
+    series: &mut [GapSeries],
+    data: &[RunFitData],
+    fit_index: &[&[usize]],
+    walks: &UnresolvedWalks,
+) {
+    for ((s, fd), index) in series.iter_mut().zip(data).zip(fit_index) {
+        let n = fd.points();
+        let mut var = vec![[0.0; 2]; n];
+        for (b, &k) in walks.intensity_per_sqrt_s.iter().enumerate() {
+            let Some(v) = fd.walks.get(b).filter(|_| k > 0.0) else {
+                continue;
+            };
+            for (i, w) in var.iter_mut().enumerate() {
+                w[0] += k * k * v.row(2 * i).norm_squared();
+                w[1] += k * k * v.row(2 * i + 1).norm_squared();
+            }
+        }
+        if var.iter().all(|w| w == &[0.0, 0.0]) {
+            continue;
+        }
+        for (k, sigma) in s.sigma_m.iter_mut().enumerate() {
+            let add = interpolate(index, &var, k);
+            for c in 0..2 {
+                sigma[c] = (sigma[c] * sigma[c] + add[c]).sqrt();
+            }
+        }
+    }
+}
+
+/// `var` (given at output indices `index`, ascending) at output index `k`.
+fn interpolate(index: &[usize], var: &[[f64; 2]], k: usize) -> [f64; 2] {
+    let after = index.partition_point(|&i| i < k);
+    match (after.checked_sub(1), var.get(after)) {
+        (_, Some(v)) if index[after] == k => *v,
+        (Some(b), Some(a)) => {
+            let w = (k - index[b]) as f64 / (index[after] - index[b]) as f64;
+            let (vb, va) = (var[b], *a);
+            [vb[0] + w * (va[0] - vb[0]), vb[1] + w * (va[1] - vb[1])]
+        }
+        (None, Some(a)) => *a,
+        (Some(b), None) => var[b],
+        (None, None) => [0.0; 2],
+    }
 }
 
 impl UnresolvedWalks {
@@ -232,6 +286,48 @@ mod tests {
             unresolved_walk_per_sqrt_s: bound,
             ..NoiseSpec::NONE
         }
+    }
+
+    #[test]
+    fn envelopes_widen_by_the_walks_variance_interpolated_between_fit_points() {
+        let data = runs(0.0, 0.0, 1);
+        let walks = UnresolvedWalks {
+            intensity_per_sqrt_s: [0.0, 2.0, 0.0, 0.0, 0.0, 0.0],
+            bound_per_sqrt_s: [10.0, 0.0],
+            refused: Vec::new(),
+            fitted_without: None,
+        };
+        // Fit point i at output index 2i: odd outputs lie halfway between two fit points.
+        let index: Vec<usize> = (0..POINTS).map(|i| 2 * i).collect();
+        let mut series = vec![GapSeries {
+            run: "r".into(),
+            nav_start_s: 0.0,
+            t_s: (0..2 * POINTS).map(|k| k as f64).collect(),
+            segment: vec![0; 2 * POINTS],
+            gap_m: vec![[0.0; 2]; 2 * POINTS],
+            twin_m: vec![[0.0; 2]; 2 * POINTS],
+            sigma_m: vec![[3.0, 4.0]; 2 * POINTS],
+        }];
+        widen_envelopes(&mut series, &data[..1], &[&index], &walks);
+        let v = &data[0].walks[1];
+        let walk_var = |i: usize, c: usize| 4.0 * v.row(2 * i + c).norm_squared();
+        for i in [0, 17, POINTS - 1] {
+            let s = series[0].sigma_m[2 * i];
+            assert!(
+                (s[0] * s[0] - 9.0 - walk_var(i, 0)).abs() < 1e-9,
+                "{i}: {s:?}"
+            );
+            assert!(
+                (s[1] * s[1] - 16.0 - walk_var(i, 1)).abs() < 1e-9,
+                "{i}: {s:?}"
+            );
+        }
+        let mid = series[0].sigma_m[2 * 17 + 1][0].powi(2) - 9.0;
+        assert!((mid - 0.5 * (walk_var(17, 0) + walk_var(18, 0))).abs() < 1e-9);
+        let last = series[0].sigma_m[2 * POINTS - 1][0].powi(2) - 9.0;
+        assert!((last - walk_var(POINTS - 1, 0)).abs() < 1e-9);
+        // The walk grows with time: the envelope at the end is wider than at the start.
+        assert!(walk_var(POINTS - 1, 0) > walk_var(1, 0) + 1.0);
     }
 
     #[test]
