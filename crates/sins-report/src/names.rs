@@ -5,6 +5,11 @@ pub(crate) fn track_file(run: &str) -> String {
     format!("{run}_errors.parquet")
 }
 
+/// `<run>_segments.parquet`.
+pub(crate) fn segments_file(run: &str) -> String {
+    format!("{run}_segments.parquet")
+}
+
 /// `<run>.rrd`.
 pub(crate) fn rrd_file(run: &str) -> String {
     format!("{run}.rrd")

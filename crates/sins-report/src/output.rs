@@ -5,7 +5,7 @@
 //! moved.
 
 use crate::ReportError;
-use crate::names::{plot_file, rrd_file, track_file};
+use crate::names::{plot_file, rrd_file, segments_file, track_file};
 use crate::run::ReportRun;
 use crate::{markdown, plots, rrd, tracks};
 use sins_config::{ParamSet, summary_to_json, write_params};
@@ -146,9 +146,10 @@ fn check_replaceable(
 fn fill(dir: &Path, run: &ReportRun) -> Result<Vec<String>, ReportError> {
     let mut files = Vec::new();
     for o in &run.outcomes {
-        let t = track_file(&o.run);
-        tracks::write_tracks(&dir.join(&t), o)?;
+        let (t, g) = (track_file(&o.run), segments_file(&o.run));
+        tracks::write_tracks(&dir.join(&t), &dir.join(&g), o)?;
         files.push(t);
+        files.push(g);
         let r = rrd_file(&o.run);
         sins_viz::write_navigation(&dir.join(&r), &o.run, &rrd::recording(o))?;
         files.push(r);

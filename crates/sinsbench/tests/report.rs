@@ -54,6 +54,7 @@ fn replica_report_then_gate() {
             assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
         }
         assert!(out.join(format!("{name}_errors.parquet")).is_file());
+        assert!(out.join(format!("{name}_segments.parquet")).is_file());
         verify_rrd(&out.join(format!("{name}.rrd")));
     }
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
