@@ -86,6 +86,22 @@ impl SampleSource for Synth {
     }
 }
 
+/// Identify the noise of `sources`, each a run of one stationary segment, with the defaults.
+fn identify_synth(sources: &mut [Synth]) -> sins_noiseid::IdentifiedNoise {
+    let mut runs: Vec<RunStationary<'_>> = sources
+        .iter_mut()
+        .enumerate()
+        .map(|(i, s)| RunStationary {
+            name: format!("r{i}"),
+            source: s,
+            segment_labels: vec!["stationary".into()],
+            site: Geodetic::from_deg(28.2, 113.0, 60.0),
+            compensation: None,
+        })
+        .collect();
+    identify_noise(&mut runs, &NoiseIdConfig::default()).expect("identified")
+}
+
 #[test]
 fn white_plus_gauss_markov_is_identified_within_its_sigma() {
     let (white, sigma, tc) = (2e-3, 1e-3, 300.0);
@@ -99,18 +115,7 @@ fn white_plus_gauss_markov_is_identified_within_its_sigma() {
             step: None,
         })
         .collect();
-    let mut runs: Vec<RunStationary<'_>> = sources
-        .iter_mut()
-        .enumerate()
-        .map(|(i, s)| RunStationary {
-            name: format!("r{i}"),
-            source: s,
-            segment_labels: vec!["stationary".into()],
-            site: Geodetic::from_deg(28.2, 113.0, 60.0),
-            compensation: None,
-        })
-        .collect();
-    let id = identify_noise(&mut runs, &NoiseIdConfig::default()).expect("identified");
+    let id = identify_synth(&mut sources);
     for (name, s) in [("gyro", &id.gyro), ("accel", &id.accel)] {
         eprintln!("{name}: {s:#?}");
         within(&format!("{name} white"), &s.white_per_sqrt_s, white, 3.0);
@@ -165,18 +170,7 @@ fn a_bias_change_inside_a_stretch_is_left_out_of_the_noise() {
             step: (i == 1).then_some((2, at_sample, jump)),
         })
         .collect();
-    let mut runs: Vec<RunStationary<'_>> = sources
-        .iter_mut()
-        .enumerate()
-        .map(|(i, s)| RunStationary {
-            name: format!("r{i}"),
-            source: s,
-            segment_labels: vec!["stationary".into()],
-            site: Geodetic::from_deg(28.2, 113.0, 60.0),
-            compensation: None,
-        })
-        .collect();
-    let id = identify_noise(&mut runs, &NoiseIdConfig::default()).expect("identified");
+    let id = identify_synth(&mut sources);
     let changes: Vec<_> = id.stretches.iter().flat_map(|s| &s.changes).collect();
     assert_eq!(changes.len(), 1, "{changes:?}");
     let c = changes[0];
