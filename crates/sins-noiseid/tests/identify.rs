@@ -86,6 +86,21 @@ impl SampleSource for Synth {
     }
 }
 
+/// Three 20 000 s runs at 20 Hz of white noise and a Gauss-Markov bias on every channel;
+/// `step` (channel, sample, rate change) on the second run only.
+fn three_runs(white: f64, gm: (f64, f64), step: Option<(usize, usize, f64)>) -> Vec<Synth> {
+    (0..3)
+        .map(|i| Synth {
+            n: 400_000,
+            h_s: 0.05,
+            seed: 40 + i,
+            white,
+            gm,
+            step: step.filter(|_| i == 1),
+        })
+        .collect()
+}
+
 /// Identify the noise of `sources`, each a run of one stationary segment, with the defaults.
 fn identify_synth(sources: &mut [Synth]) -> sins_noiseid::IdentifiedNoise {
     let mut runs: Vec<RunStationary<'_>> = sources
@@ -105,16 +120,7 @@ fn identify_synth(sources: &mut [Synth]) -> sins_noiseid::IdentifiedNoise {
 #[test]
 fn white_plus_gauss_markov_is_identified_within_its_sigma() {
     let (white, sigma, tc) = (2e-3, 1e-3, 300.0);
-    let mut sources: Vec<Synth> = (0..3)
-        .map(|i| Synth {
-            n: 400_000,
-            h_s: 0.05,
-            seed: 40 + i,
-            white,
-            gm: (sigma, tc),
-            step: None,
-        })
-        .collect();
+    let mut sources = three_runs(white, (sigma, tc), None);
     let id = identify_synth(&mut sources);
     for (name, s) in [("gyro", &id.gyro), ("accel", &id.accel)] {
         eprintln!("{name}: {s:#?}");
@@ -160,16 +166,7 @@ fn white_plus_gauss_markov_is_identified_within_its_sigma() {
 fn a_bias_change_inside_a_stretch_is_left_out_of_the_noise() {
     let (white, sigma, tc, jump) = (2e-3, 1e-3, 300.0, 1e-2);
     let at_sample = 160_123;
-    let mut sources: Vec<Synth> = (0..3)
-        .map(|i| Synth {
-            n: 400_000,
-            h_s: 0.05,
-            seed: 40 + i,
-            white,
-            gm: (sigma, tc),
-            step: (i == 1).then_some((2, at_sample, jump)),
-        })
-        .collect();
+    let mut sources = three_runs(white, (sigma, tc), Some((2, at_sample, jump)));
     let id = identify_synth(&mut sources);
     let changes: Vec<_> = id.stretches.iter().flat_map(|s| &s.changes).collect();
     assert_eq!(changes.len(), 1, "{changes:?}");
