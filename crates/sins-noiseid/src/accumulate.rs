@@ -184,7 +184,7 @@ impl Accumulator {
         }
         let nb = o.bins.len();
         let tau0_s = self.bin as f64 * self.h_s;
-        let z_crit = steps::threshold(nb);
+        let z_crit = steps::threshold(nb, CHANNELS);
         let changes: Vec<Vec<BiasChange>> = (0..CHANNELS)
             .map(|c| {
                 let x: Vec<f64> = o.bins.iter().map(|b| b[c]).collect();

@@ -14,7 +14,6 @@
 //! octave where it stands out most locates it; the `2m` bins around it are left out of the
 //! Allan sums, and the pieces either side are scanned again.
 
-use crate::accumulate::CHANNELS;
 use sins_diag::chi2_isf;
 
 /// Family-wise probability of reporting a change in a stretch of stationary noise.
@@ -46,10 +45,10 @@ pub struct BiasChange {
     pub z: f64,
 }
 
-/// The threshold on `z` for a stretch of `n_bins` bin points: Bonferroni over the six channels
-/// and about `2 n_bins` windows (`n/m` per octave, summed over the octaves).
-pub fn threshold(n_bins: usize) -> f64 {
-    let tests = (CHANNELS * 2 * n_bins.max(1)) as f64;
+/// The threshold on `z` for a stretch of `n_bins` bin points: Bonferroni over its `channels`
+/// and about `2 n_bins` windows each (`n/m` per octave, summed over the octaves).
+pub fn threshold(n_bins: usize, channels: usize) -> f64 {
+    let tests = (channels.max(1) * 2 * n_bins.max(1)) as f64;
     chi2_isf(FALSE_ALARM / tests, 1.0).sqrt()
 }
 
@@ -200,7 +199,7 @@ mod tests {
     #[test]
     fn a_change_of_ten_sigma_is_found_where_it_is_and_sized() {
         let x = walk(20_000, 1.0, 1.0, 7_000, 11);
-        let z = threshold(x.len());
+        let z = threshold(x.len(), 6);
         let found = scan_channel(2, &x, 1.0, z, None);
         assert_eq!(found.len(), 1, "{found:?}");
         let c = &found[0];
@@ -217,7 +216,7 @@ mod tests {
     #[test]
     fn stationary_noise_raises_no_change_in_a_hundred_stretches() {
         // FALSE_ALARM is per stretch over six channels: one channel here, so about 2e-4 each.
-        let z = threshold(20_000);
+        let z = threshold(20_000, 6);
         let alarms: usize = (0..100)
             .map(|seed| scan_channel(0, &walk(20_000, 1.0, 0.0, 0, 100 + seed), 1.0, z, None).len())
             .sum();
@@ -236,7 +235,7 @@ mod tests {
             .enumerate()
             .map(|(k, v)| ((v + 19.3 * k as f64).floor() * q + 0.1) - 0.1)
             .collect();
-        let z = threshold(lattice.len());
+        let z = threshold(lattice.len(), 6);
         assert!(scan_channel(0, &lattice, 1.0, z, Some(q)).is_empty());
         assert!(scan_channel(0, &lattice, 1.0, z, None).is_empty());
         // A change of 0.05 quantum per bin (the blind suite's case32, 0.05 deg/h against 1
