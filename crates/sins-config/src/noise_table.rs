@@ -25,7 +25,7 @@ use crate::error::ConfigError;
 use crate::experiment::{EXPERIMENT_SCHEMA, NoiseFile, build_noise, check_schema, load_experiment};
 use crate::files::write_file_atomically;
 use crate::toml_util;
-use crate::units::{DEG_PER_SQRT_H, UG_PER_SQRT_HZ};
+use crate::units::{DEG_PER_H_PER_SQRT_H, DEG_PER_SQRT_H, UG_PER_SQRT_H, UG_PER_SQRT_HZ};
 use serde::Deserialize;
 use sins_nav::{ARCSEC, DEG_PER_H, UG};
 use sins_sim::NoiseModel;
@@ -80,11 +80,6 @@ struct WalkFile {
     gyro_deg_per_h_per_sqrt_h: f64,
     accel_ug_per_sqrt_h: f64,
 }
-
-/// deg/h/√h in rad/s/√s.
-const DEG_PER_H_PER_SQRT_H: f64 = DEG_PER_H / 60.0;
-/// ug/√h in m/s²/√s.
-const UG_PER_SQRT_H: f64 = UG / 60.0;
 
 #[derive(Default, Deserialize)]
 #[serde(deny_unknown_fields, default)]

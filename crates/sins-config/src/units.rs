@@ -10,6 +10,10 @@ pub const PPM: f64 = 1e-6;
 pub const DEG_PER_SQRT_H: f64 = DEG / 60.0;
 /// One micro-g per square-root hertz in m/s/sqrt(s) (accelerometer velocity random walk).
 pub const UG_PER_SQRT_HZ: f64 = UG;
+/// One deg/h per square-root hour in rad/s/sqrt(s) (gyro bias random walk).
+pub const DEG_PER_H_PER_SQRT_H: f64 = DEG_PER_H / 60.0;
+/// One micro-g per square-root hour in m/s²/sqrt(s) (accelerometer bias random walk).
+pub const UG_PER_SQRT_H: f64 = UG / 60.0;
 /// Seconds per hour.
 pub const S_PER_H: f64 = 3600.0;
 

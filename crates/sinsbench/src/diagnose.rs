@@ -80,8 +80,8 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             let walks = match table.unresolved_walk_per_sqrt_s {
                 Some([g, a]) => format!(
                     "; rate random walks it could not exclude, fitted on the gap up to {:.3e} deg/h/√h (gyro) and {:.3} ug/√h (accel)",
-                    g / (sins_nav::DEG_PER_H / 60.0),
-                    a / (sins_nav::UG / 60.0)
+                    g / sins_config::units::DEG_PER_H_PER_SQRT_H,
+                    a / sins_config::units::UG_PER_SQRT_H
                 ),
                 None => String::new(),
             };

@@ -5,7 +5,7 @@
 use crate::out::{note, say};
 use anyhow::Result;
 use sins_config::markdown::Table;
-use sins_config::units::{DEG_PER_SQRT_H, UG_PER_SQRT_HZ};
+use sins_config::units::{DEG_PER_H_PER_SQRT_H, DEG_PER_SQRT_H, UG_PER_SQRT_H, UG_PER_SQRT_HZ};
 use sins_nav::{ARCSEC, DEG_PER_H, UG};
 use sins_noiseid::{Estimate, IdentifiedNoise, SensorNoise};
 use sins_plot::{AllanPanel, AllanSeries, allan_figure};
@@ -59,8 +59,7 @@ fn fig(e: &Estimate, per_unit: f64, digits: usize) -> String {
 
 /// Rows `(term, unit, formatter)` of the summary tables.
 fn rows(gyro: &SensorNoise, accel: &SensorNoise) -> Vec<(String, String)> {
-    let rrw_g = DEG_PER_H / 60.0;
-    let rrw_a = UG / 60.0;
+    let (rrw_g, rrw_a) = (DEG_PER_H_PER_SQRT_H, UG_PER_SQRT_H);
     vec![
         (
             "gyro angle random walk [deg/√h]".into(),
