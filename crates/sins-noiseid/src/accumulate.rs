@@ -13,12 +13,18 @@
 
 use crate::allan::PooledTau;
 use crate::quant::LatticeDetector;
+use crate::result::ChangeReport;
 use crate::steps::{self, BiasChange};
 use sins_imu::ImuSample;
 use std::collections::BTreeMap;
 
 /// Channels: gyro x, y, z then accelerometer x, y, z.
 pub const CHANNELS: usize = 6;
+
+/// The channels' names, in that order.
+pub const CHANNEL_NAMES: [&str; CHANNELS] = [
+    "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z",
+];
 
 /// A stationary stretch that was used.
 #[derive(Clone, Debug, PartialEq)]
@@ -32,22 +38,7 @@ pub(crate) struct StretchStats {
     /// Mean rate per channel: gyro rad/s, accelerometer m/s².
     pub mean_rate: [f64; CHANNELS],
     /// Changes of a bias found inside it ([`crate::steps`]), left out of the Allan sums.
-    pub changes: Vec<StationaryChange>,
-}
-
-/// A change of one channel's bias inside a stationary stretch, in the run's time.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct StationaryChange {
-    /// Channel: gyro x, y, z then accelerometer x, y, z.
-    pub channel: usize,
-    /// When (s, the run's time; to within half of `left_out_s`).
-    pub at_s: f64,
-    /// Length of the data left out around it (s).
-    pub left_out_s: f64,
-    /// Rate after minus rate before (rad/s, m/s²).
-    pub size: f64,
-    /// The peak against the robust scale of the stretch's other windows.
-    pub z: f64,
+    pub changes: Vec<ChangeReport>,
 }
 
 /// The pooled second differences of all runs, keyed by the averaging factor in samples.
@@ -214,8 +205,8 @@ impl Accumulator {
             changes: changes
                 .into_iter()
                 .flatten()
-                .map(|c| StationaryChange {
-                    channel: c.channel,
+                .map(|c| ChangeReport {
+                    channel: CHANNEL_NAMES[c.channel].to_string(),
                     at_s: o.start_s + c.at_bin as f64 * tau0_s,
                     left_out_s: 2.0 * c.half_width_bins as f64 * tau0_s,
                     size: c.size,

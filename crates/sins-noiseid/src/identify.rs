@@ -1,7 +1,7 @@
 //! The entry point: read the runs' stationary stretches, pool their Allan variances, fit the
 //! twin's noise terms.
 
-use crate::accumulate::{Accumulator, CHANNELS, StretchStats};
+use crate::accumulate::{Accumulator, CHANNEL_NAMES, CHANNELS, StretchStats};
 use crate::allan::{PooledTau, chi2_interval};
 use crate::config::NoiseIdConfig;
 use crate::error::NoiseIdError;
@@ -9,8 +9,7 @@ use crate::fit::{FitData, Point, ProfiledFit, fit_profiled};
 use crate::model::{TERMS, Term};
 use crate::quant::ramp_quantization_avar;
 use crate::result::{
-    AllanCurve, ChangeReport, Estimate, IdentifiedNoise, RunUsage, SensorNoise, StretchReport,
-    instability_of,
+    AllanCurve, Estimate, IdentifiedNoise, RunUsage, SensorNoise, StretchReport, instability_of,
 };
 use sins_diag::source::SampleSource;
 use sins_imu::{Compensator, ImuErrorParams};
@@ -39,10 +38,6 @@ pub struct RunStationary<'a> {
 
 /// The Gauss-Markov correlation-time grid ends at this multiple of the longest `τ` fitted.
 pub const CORRELATION_CAP: f64 = 4.0;
-
-const CHANNEL_NAMES: [&str; CHANNELS] = [
-    "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z",
-];
 
 /// Identify the sensor noise from the stationary stretches of `runs` (one pass over each run).
 ///
@@ -266,17 +261,7 @@ fn stretch_report(s: &StretchStats, run: &RunStationary<'_>, h_s: f64) -> Stretc
         duration_s: s.samples as f64 * h_s,
         gyro_residual_radps: gyro,
         accel_residual_mps2: accel,
-        changes: s
-            .changes
-            .iter()
-            .map(|c| ChangeReport {
-                channel: CHANNEL_NAMES[c.channel].to_string(),
-                at_s: c.at_s,
-                left_out_s: c.left_out_s,
-                size: c.size,
-                z: c.z,
-            })
-            .collect(),
+        changes: s.changes.clone(),
     }
 }
 

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 use sins_diag::noise::NoiseSpec;
-use sins_nav::{DEG_PER_H, G0_MPS2};
+use sins_nav::{DEG_PER_H, UG};
 use sins_sim::NoiseModel;
 use sins_sim::noise::GM_ALLAN_PEAK_RATIO;
 
@@ -224,7 +224,7 @@ impl IdentifiedNoise {
                 let (unit, per) = if c.channel.starts_with("gyro") {
                     ("deg/h", DEG_PER_H)
                 } else {
-                    ("ug", 1e-6 * G0_MPS2)
+                    ("ug", UG)
                 };
                 out.push(format!(
                     "{}: the bias changes by {:.4} {unit} at {:.0} s of run {} (z = {:.1}) inside a stationary stretch; the {:.0} s around it are left out of the noise identification (a change is not noise: the diagnosis sees it in the navigation data)",

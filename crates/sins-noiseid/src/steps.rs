@@ -45,6 +45,15 @@ pub struct BiasChange {
     pub z: f64,
 }
 
+impl BiasChange {
+    /// The bin points left out around the change: those strictly inside the half-width of the
+    /// octave that located it (the pieces either side end and start on its edges).
+    pub fn left_out(&self) -> std::ops::Range<usize> {
+        let m = self.half_width_bins;
+        (self.at_bin + 1).saturating_sub(m)..self.at_bin + m
+    }
+}
+
 /// The threshold on `z` for a stretch of `n_bins` bin points: Bonferroni over its `channels`
 /// and about `2 n_bins` windows each (`n/m` per octave, summed over the octaves).
 pub fn threshold(n_bins: usize, channels: usize) -> f64 {
@@ -71,15 +80,15 @@ pub fn scan_channel(
         let Some(peak) = strongest(&x[lo..hi], tau0_s, quantum).filter(|p| p.z > z_crit) else {
             continue;
         };
-        let at = lo + peak.at_bin;
-        let m = peak.half_width_bins;
-        pieces.push((lo, (at + 1).saturating_sub(m).max(lo)));
-        pieces.push(((at + m).min(hi), hi));
-        found.push(BiasChange {
+        let change = BiasChange {
             channel,
-            at_bin: at,
+            at_bin: lo + peak.at_bin,
             ..peak
-        });
+        };
+        let gap = change.left_out();
+        pieces.push((lo, gap.start.max(lo)));
+        pieces.push((gap.end.min(hi), hi));
+        found.push(change);
     }
     found.sort_by_key(|c| c.at_bin);
     found
@@ -91,11 +100,12 @@ pub fn pieces(n_points: usize, changes: &[BiasChange]) -> Vec<std::ops::Range<us
     let mut out = Vec::new();
     let mut start = 0;
     for c in changes {
-        let end = (c.at_bin + 1).saturating_sub(c.half_width_bins).max(start);
+        let gap = c.left_out();
+        let end = gap.start.max(start);
         if end > start {
             out.push(start..end);
         }
-        start = start.max(c.at_bin + c.half_width_bins).min(n_points);
+        start = start.max(gap.end).min(n_points);
     }
     if n_points > start {
         out.push(start..n_points);
@@ -243,7 +253,7 @@ mod tests {
         let stepped: Vec<f64> = lattice
             .iter()
             .enumerate()
-            .map(|(k, v)| v + (k.saturating_sub(9_000) as f64 * 0.05 * q / q).floor() * q)
+            .map(|(k, v)| v + (0.05 * k.saturating_sub(9_000) as f64).floor() * q)
             .collect();
         let found = scan_channel(0, &stepped, 1.0, z, Some(q));
         assert_eq!(found.len(), 1, "{found:?}");
