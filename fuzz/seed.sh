@@ -16,7 +16,7 @@ fi
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 
-for t in dataset_parquet dataset_csv experiment params report_config gate_thresholds gate_summary; do
+for t in dataset_parquet dataset_csv experiment params report_config gate_thresholds gate_summary shard_result; do
     rm -rf "${S:?}/$t"
     mkdir -p "$S/$t"
 done
@@ -110,5 +110,30 @@ s["experiments"] = s["experiments"][:1]
 for r in s["experiments"][0]["results"].values():
     r["segments"] = r["segments"][:1]
 json.dump(s, open(f"{d}/one_experiment.json", "w"), indent=1)
+PY
+
+# Shard results of the manifest in fuzz_targets/shard_result.rs (its hash computed as the
+# manifest computes it: SHA-256 of its compact JSON with an empty manifest_sha256): both
+# shards whole, and one whose per-seed arrays are cut short (a damaged result).
+python3 - "$S/shard_result" <<'PY'
+import hashlib, json, sys
+d = sys.argv[1]
+m = {"format": "sinsbench-campaign/1", "campaign": "fuzz", "kind": "calibration-mc",
+     "source": "fuzz.toml", "experiments_dir": "experiments", "jobs": 4, "jobs_per_shard": 2,
+     "shards": 2, "config_sha256": "0" * 64, "binary": {"version": "fuzz", "sha256": "0" * 64},
+     "manifest_sha256": ""}
+h = hashlib.sha256(json.dumps(m, separators=(",", ":")).encode()).hexdigest()
+def outcome(seed, n=33, states=42):
+    return {"outcome": {"seed": seed, "estimate": [1.5] * n, "error": [0.25] * n,
+                        "sigma": [0.5] * n, "nees": 33.0, "sigma_ratio": [0.05] * states,
+                        "max_normalized_innovation": 1.0},
+            "initial_sigma_si": [1e-3] * states, "final_sigma_si": [5e-5] * states,
+            "estimate_si": [1e-6] * n}
+def shard(s, outcomes):
+    return {"manifest_sha256": h, "shard": s, "jobs": [2 * s, 2 * s + 2], "host": "fuzz",
+            "wall_s": 1.0, "outcomes": outcomes}
+json.dump(shard(0, [outcome(5), outcome(6)]), open(f"{d}/shard0.json", "w"))
+json.dump(shard(1, [outcome(7), outcome(1)]), open(f"{d}/shard1.json", "w"))
+json.dump(shard(1, [outcome(7, n=30), outcome(1)]), open(f"{d}/short_arrays.json", "w"))
 PY
 du -sh "$S"

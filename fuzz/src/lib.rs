@@ -117,3 +117,25 @@ pub fn read_dataset(path: &Path) {
         }
     }
 }
+
+/// Import `data` (written to `name`) with the description `desc_toml` into a scratch Parquet
+/// file. Any error is fine; a panic, hang or runaway allocation is not.
+#[cfg(feature = "data")]
+pub fn import_bytes(name: &str, data: &[u8], desc_toml: &str) {
+    let src = write_input(name, data);
+    let desc_file = scratch_dir().join("desc.toml");
+    let Ok(desc) = sins_import::Description::from_toml(desc_toml, &desc_file) else {
+        return;
+    };
+    let out = scratch_dir().join("imported.parquet");
+    let _ = sins_import::import(
+        &sins_import::ImportRequest {
+            source: &src,
+            description: &desc,
+            description_file: &desc_file,
+            description_text: desc_toml,
+            out: &out,
+        },
+        &mut |_| {},
+    );
+}

@@ -55,6 +55,22 @@ pub enum CampaignError {
         /// Number of shards.
         shards: usize,
     },
+    /// Shard results that are there but damaged (see `crate::shard`): the reduce uses none.
+    #[error(
+        "{count} of {shards} shard results in {dir} are damaged and were not used: {details}; run those shards again with `sinsbench campaign shard {dir} --index I` (I = {indices}; it keeps each damaged file aside as shard-IIIII.json.damaged-N), then reduce again"
+    )]
+    DamagedShards {
+        /// The campaign directory.
+        dir: PathBuf,
+        /// Their indices, in Slurm array syntax.
+        indices: String,
+        /// How many.
+        count: usize,
+        /// Number of shards.
+        shards: usize,
+        /// Each damaged file and what is wrong with it (and the shards without any result).
+        details: String,
+    },
     /// A shard's result file is not what its shard must hold.
     #[error("{path}: {message}")]
     BadShard {

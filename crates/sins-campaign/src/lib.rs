@@ -7,7 +7,9 @@
 //! - [`manifest`]: the plan's manifest (configuration and build hashes, shard count), which
 //!   every shard and the reduce check;
 //! - [`work`]: what each kind provides (jobs, one job, the reduce); the kinds in `kinds`;
-//! - [`run`]: plan, run a shard, list the missing ones, reduce, run all locally.
+//! - [`run`]: plan, run a shard, list the missing ones, reduce, run all locally;
+//! - [`shard`]: a shard's result file, checked against the manifest before use; a damaged one
+//!   counts as missing and is kept aside when its shard runs again.
 //!
 //! A shard `s` holds jobs `s·n .. (s+1)·n` (n = `jobs_per_shard`), whatever the number of
 //! workers. Its result is one JSON file written aside and renamed into place; the reduce reads
@@ -20,10 +22,12 @@ mod error;
 mod kinds;
 pub mod manifest;
 pub mod run;
+pub mod shard;
 pub mod spec;
 pub mod work;
 
 pub use error::CampaignError;
 pub use manifest::{BinaryId, Manifest, array_syntax};
-pub use run::{Context, Opened, ShardRun, Status, failed_path, open, plan, shard_path, status};
+pub use run::{Context, Opened, ShardRun, Status, failed_path, open, plan, status};
+pub use shard::{SetAside, ShardResult, ShardState, parse_shard, shard_path};
 pub use spec::{Campaign, Kind, load_campaign, parse_campaign};

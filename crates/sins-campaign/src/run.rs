@@ -6,9 +6,10 @@
 use crate::CampaignError;
 use crate::kinds::load_work;
 use crate::manifest::{BinaryId, FORMAT, Manifest, array_syntax, config_sha256};
+use crate::shard::{SetAside, ShardResult, ShardState, read_shard, set_aside, shard_path};
 use crate::spec::{Campaign, parse_campaign};
 use crate::work::{Work, write_text};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -35,17 +36,6 @@ pub struct Opened {
     dir: PathBuf,
 }
 
-/// One shard's result file.
-#[derive(Serialize, Deserialize)]
-struct ShardFile {
-    manifest_sha256: String,
-    shard: usize,
-    jobs: [usize; 2],
-    host: String,
-    wall_s: f64,
-    outcomes: Vec<serde_json::Value>,
-}
-
 /// What running a shard did.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ShardRun {
@@ -53,11 +43,6 @@ pub enum ShardRun {
     Ran(f64),
     /// Its result was already there: nothing ran.
     AlreadyDone,
-}
-
-/// The result file of shard `s`.
-pub fn shard_path(dir: &Path, s: usize) -> PathBuf {
-    dir.join("shards").join(format!("shard-{s:05}.json"))
 }
 
 /// The failure note of shard `s` (written when its work failed, removed when it succeeds).
@@ -177,12 +162,6 @@ pub fn open(dir: &Path, ctx: &Context) -> Result<Opened, CampaignError> {
     })
 }
 
-fn missing(dir: &Path, shards: usize) -> Vec<usize> {
-    (0..shards)
-        .filter(|s| !shard_path(dir, *s).exists())
-        .collect()
-}
-
 fn failed(dir: &Path, shards: usize) -> Vec<(usize, String)> {
     (0..shards)
         .filter_map(|s| {
@@ -194,14 +173,28 @@ fn failed(dir: &Path, shards: usize) -> Vec<(usize, String)> {
 }
 
 /// How far a planned campaign is, from its files alone: the manifest (its own hash checked),
-/// the shards without a result and those whose last attempt failed. Neither the build nor the
-/// inputs are checked (that is `open`'s job before anything runs), so a scheduler can poll it
-/// cheaply: no executable to hash, no experiment to load.
+/// the shards without a usable result (a damaged one counts as missing: see [`crate::shard`])
+/// and those whose last attempt failed. Neither the build nor the inputs are checked (that is
+/// `open`'s job before anything runs), so a scheduler can poll it cheaply: no executable to
+/// hash, no experiment to load.
 pub fn status(dir: &Path) -> Result<Status, CampaignError> {
     let manifest = Manifest::read(dir)?;
     let shards = manifest.shards;
+    let mut missing = Vec::new();
+    let mut damaged = Vec::new();
+    for s in 0..shards {
+        match read_shard(dir, &manifest, s)? {
+            ShardState::Done(_) => {}
+            ShardState::Missing => missing.push(s),
+            ShardState::Damaged(why) => {
+                missing.push(s);
+                damaged.push((s, why));
+            }
+        }
+    }
     Ok(Status {
-        missing: missing(dir, shards),
+        missing,
+        damaged,
         failed: failed(dir, shards),
         manifest,
     })
@@ -212,8 +205,10 @@ pub fn status(dir: &Path) -> Result<Status, CampaignError> {
 pub struct Status {
     /// The manifest.
     pub manifest: Manifest,
-    /// Shards without a result, in order.
+    /// Shards without a usable result (none, or a damaged one), in order.
     pub missing: Vec<usize>,
+    /// Of those, the shards whose result is damaged, with what is wrong with it.
+    pub damaged: Vec<(usize, String)>,
     /// Shards whose last attempt failed, with the note it left.
     pub failed: Vec<(usize, String)>,
 }
@@ -236,46 +231,56 @@ impl Opened {
         Ok(())
     }
 
-    fn read_shard(&self, s: usize) -> Result<Option<ShardFile>, CampaignError> {
+    /// The result of shard `s`, checked against the manifest and, outcome by outcome, against
+    /// its jobs ([`Work::check_outcome`]).
+    fn state(&self, s: usize) -> Result<ShardState, CampaignError> {
+        let f = match read_shard(&self.dir, &self.manifest, s)? {
+            ShardState::Done(f) => f,
+            other => return Ok(other),
+        };
+        for (job, o) in self.manifest.shard_jobs(s).zip(&f.outcomes) {
+            if let Err(e) = self.work.check_outcome(job, o) {
+                let label = self.work.job_label(job);
+                return Ok(ShardState::Damaged(format!(
+                    "holds an unusable outcome of job {job} ({label}): {e}"
+                )));
+            }
+        }
+        Ok(ShardState::Done(f))
+    }
+
+    /// Moves shard `s`'s result aside when it is damaged (see [`crate::shard`]), so that the
+    /// shard can run again; says where it went and why.
+    pub fn set_aside_damaged(&self, s: usize) -> Result<Option<SetAside>, CampaignError> {
+        self.check_index(s)?;
+        let ShardState::Damaged(reason) = self.state(s)? else {
+            return Ok(None);
+        };
         let path = shard_path(&self.dir, s);
-        let text = match std::fs::read_to_string(&path) {
-            Ok(t) => t,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-            Err(e) => return Err(CampaignError::io(&path, e)),
-        };
-        let bad = |message: String| CampaignError::BadShard {
-            path: path.clone(),
-            message,
-        };
-        let f: ShardFile =
-            serde_json::from_str(&text).map_err(|e| bad(format!("not a shard result: {e}")))?;
-        let r = self.manifest.shard_jobs(s);
-        if f.manifest_sha256 != self.manifest.manifest_sha256 {
-            return Err(bad(
-                "belongs to another plan (its manifest SHA-256 differs)".into(),
-            ));
-        }
-        if f.shard != s || f.jobs != [r.start, r.end] || f.outcomes.len() != r.len() {
-            return Err(bad(format!(
-                "holds shard {} (jobs {}..{}, {} outcomes) where shard {s} (jobs {}..{}) belongs",
-                f.shard,
-                f.jobs[0],
-                f.jobs[1],
-                f.outcomes.len(),
-                r.start,
-                r.end
-            )));
-        }
-        Ok(Some(f))
+        let kept = set_aside(&path)?;
+        Ok(Some(SetAside {
+            shard: s,
+            path,
+            kept,
+            reason,
+        }))
     }
 
     /// Runs shard `s` (its jobs in order) and writes its result; a shard whose result is
-    /// already there is not run again. A failure leaves a note beside the results (listed by
+    /// already there is not run again, a damaged result is moved aside first
+    /// ([`Opened::set_aside_damaged`]). A failure leaves a note beside the results (listed by
     /// the reduce) and no result.
     pub fn run_shard(&self, s: usize) -> Result<ShardRun, CampaignError> {
         self.check_index(s)?;
-        if self.read_shard(s)?.is_some() {
-            return Ok(ShardRun::AlreadyDone);
+        match self.state(s)? {
+            ShardState::Done(_) => return Ok(ShardRun::AlreadyDone),
+            ShardState::Damaged(message) => {
+                return Err(CampaignError::BadShard {
+                    path: shard_path(&self.dir, s),
+                    message,
+                });
+            }
+            ShardState::Missing => {}
         }
         let started = Instant::now();
         let range = self.manifest.shard_jobs(s);
@@ -302,7 +307,7 @@ impl Opened {
             }
         }
         let wall_s = started.elapsed().as_secs_f64();
-        let file = ShardFile {
+        let file = ShardResult {
             manifest_sha256: self.manifest.manifest_sha256.clone(),
             shard: s,
             jobs: [range.start, range.end],
@@ -323,9 +328,15 @@ impl Opened {
         Ok(ShardRun::Ran(wall_s))
     }
 
-    /// Shards without a result, in order.
-    pub fn missing(&self) -> Vec<usize> {
-        missing(&self.dir, self.manifest.shards)
+    /// Shards without a usable result (none, or a damaged one), in order.
+    pub fn missing(&self) -> Result<Vec<usize>, CampaignError> {
+        let mut missing = Vec::new();
+        for s in 0..self.manifest.shards {
+            if !matches!(self.state(s)?, ShardState::Done(_)) {
+                missing.push(s);
+            }
+        }
+        Ok(missing)
     }
 
     /// Shards whose last attempt failed, with the note it left.
@@ -335,9 +346,22 @@ impl Opened {
 
     /// Merges every shard's result into `summary.json` and `report.md` (and the kind's
     /// figures), plus `timing.json` (per-shard wall time and host: the one file that differs
-    /// between runs). Refuses a partial set, listing the missing and failed shards.
+    /// between runs). Every result is checked before any is used; refuses a damaged result,
+    /// naming its file and what is wrong, and a partial set, listing the missing and failed
+    /// shards.
     pub fn reduce(&self) -> Result<Vec<String>, CampaignError> {
-        let missing = self.missing();
+        let mut results = Vec::with_capacity(self.manifest.shards);
+        let (mut missing, mut damaged) = (Vec::new(), Vec::new());
+        for s in 0..self.manifest.shards {
+            match self.state(s)? {
+                ShardState::Done(f) => results.push(f),
+                ShardState::Missing => missing.push(s),
+                ShardState::Damaged(why) => damaged.push((s, why)),
+            }
+        }
+        if !damaged.is_empty() {
+            return Err(self.damaged_error(&damaged, &missing));
+        }
         if !missing.is_empty() {
             let failed = self.failed();
             let mut list = array_syntax(&missing);
@@ -354,11 +378,7 @@ impl Opened {
         }
         let mut outcomes = Vec::with_capacity(self.manifest.jobs);
         let mut timing = Vec::with_capacity(self.manifest.shards);
-        for s in 0..self.manifest.shards {
-            let f = self.read_shard(s)?.ok_or_else(|| CampaignError::BadShard {
-                path: shard_path(&self.dir, s),
-                message: "disappeared during the reduce".into(),
-            })?;
+        for (s, f) in results.into_iter().enumerate() {
             timing.push(ShardTiming {
                 shard: s,
                 jobs: f.jobs[1] - f.jobs[0],
@@ -373,15 +393,33 @@ impl Opened {
         Ok(files)
     }
 
-    /// Runs every missing shard on `threads` workers (each takes the next shard not yet
-    /// started); `done(jobs)` is called as each shard ends. Stops taking shards after the
-    /// first failure and returns it.
+    fn damaged_error(&self, damaged: &[(usize, String)], missing: &[usize]) -> CampaignError {
+        let mut details: Vec<String> = damaged
+            .iter()
+            .map(|(s, why)| format!("{} {why}", shard_path(&self.dir, *s).display()))
+            .collect();
+        if !missing.is_empty() {
+            details.push(format!("no result at all: {}", array_syntax(missing)));
+        }
+        let indices: Vec<usize> = damaged.iter().map(|(s, _)| *s).collect();
+        CampaignError::DamagedShards {
+            dir: self.dir.clone(),
+            indices: array_syntax(&indices),
+            count: damaged.len(),
+            shards: self.manifest.shards,
+            details: details.join("; "),
+        }
+    }
+
+    /// Runs every missing shard (a damaged result is moved aside first) on `threads` workers
+    /// (each takes the next shard not yet started); `done(jobs)` is called as each shard
+    /// ends. Stops taking shards after the first failure and returns it.
     pub fn run_local(
         &self,
         threads: usize,
         done: &(dyn Fn(usize) + Sync),
     ) -> Result<(), CampaignError> {
-        let todo = self.missing();
+        let todo = self.missing()?;
         let next = AtomicUsize::new(0);
         let stop = AtomicBool::new(false);
         let first_error: Mutex<Option<CampaignError>> = Mutex::new(None);

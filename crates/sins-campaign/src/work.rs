@@ -20,6 +20,12 @@ pub trait Work: Sync {
     }
     /// A short name of job `job` for messages (`case07`, `seed 2024`, `replica 3`).
     fn job_label(&self, job: usize) -> String;
+    /// Checks a stored outcome of job `job` before anything uses it (it parses, its arrays
+    /// have the lengths the reduce indexes, it is this job's); the error says what is wrong.
+    fn check_outcome(&self, job: usize, outcome: &serde_json::Value) -> Result<(), String> {
+        let _ = (job, outcome);
+        Ok(())
+    }
     /// Runs job `job`; files it writes go under `dir`. Its outcome is what the reduce gets.
     fn run_job(&self, job: usize, dir: &Path) -> Result<serde_json::Value, CampaignError>;
     /// Writes `summary.json`, `report.md` (and any figures) into `dir` from every job's

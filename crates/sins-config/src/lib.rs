@@ -54,7 +54,9 @@ pub use harness::{
     load_report_config, load_table5, load_thresholds, read_summary, summary_to_json,
 };
 pub use motion::motion_duration_s;
-pub use noise_table::{NOISE_KIND, NoiseTable, load_noise, noise_to_toml, write_noise};
+pub use noise_table::{
+    NOISE_KIND, NoiseTable, load_noise, noise_to_toml, noise_to_toml_checked, write_noise,
+};
 pub use params::{
     ParamFormat, ParamSet, load_params, model_name, parse_params_json, parse_params_toml,
 };

@@ -46,6 +46,9 @@ pub struct NoiseTable {
     /// accelerometer (m/s²/√s): 95 % upper bounds, 0 for a walk it resolved; `None` when the
     /// file has no `[imu.unresolved_walk]` (an experiment never has).
     pub unresolved_walk_per_sqrt_s: Option<[f64; 2]>,
+    /// Why the identification found its model inconsistent with the data (the
+    /// `[identification] inconsistent` list; empty when consistent or absent).
+    pub inconsistent: Vec<String>,
     /// The file's description.
     pub description: String,
     /// Whether it came from a noise file (`kind = "noise"`) rather than an experiment.
@@ -63,6 +66,17 @@ struct NoiseOnlyFile {
     #[serde(default)]
     description: String,
     imu: NoiseImu,
+    #[serde(default)]
+    identification: Option<IdentificationFile>,
+}
+
+/// `[identification]`: whether the identified model agrees with the data it came from.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct IdentificationFile {
+    consistent: bool,
+    #[serde(default)]
+    inconsistent: Vec<String>,
 }
 
 #[derive(Deserialize)]
@@ -120,6 +134,7 @@ pub fn load_noise(path: impl AsRef<Path>) -> Result<NoiseTable, ConfigError> {
             noise,
             sigma: None,
             unresolved_walk_per_sqrt_s: None,
+            inconsistent: Vec::new(),
             description: exp.description,
             from_noise_file: false,
             source_path: path.to_owned(),
@@ -137,10 +152,18 @@ pub fn load_noise(path: impl AsRef<Path>) -> Result<NoiseTable, ConfigError> {
         Some(w) => Some(walk_bounds(&ctx, w)?),
         None => None,
     };
+    let inconsistent = match raw.identification {
+        Some(i) if !i.consistent && i.inconsistent.is_empty() => {
+            vec!["the noise file says the identification is inconsistent (no reason given)".into()]
+        }
+        Some(i) if !i.consistent => i.inconsistent,
+        _ => Vec::new(),
+    };
     Ok(NoiseTable {
         noise,
         sigma,
         unresolved_walk_per_sqrt_s,
+        inconsistent,
         description: raw.description,
         from_noise_file: true,
         source_path: path.to_owned(),
@@ -263,6 +286,44 @@ pub fn noise_to_toml(
     description: &str,
     comments: &[String],
 ) -> String {
+    render(
+        noise,
+        sigma,
+        unresolved_walk_per_sqrt_s,
+        description,
+        comments,
+        None,
+    )
+}
+
+/// [`noise_to_toml`] with the identification's consistency: a non-empty `inconsistent` writes
+/// `[identification] consistent = false` and its reasons, which `diagnose --noise-from` reads.
+pub fn noise_to_toml_checked(
+    noise: &NoiseModel,
+    sigma: Option<&NoiseModel>,
+    unresolved_walk_per_sqrt_s: Option<[f64; 2]>,
+    description: &str,
+    comments: &[String],
+    inconsistent: &[String],
+) -> String {
+    render(
+        noise,
+        sigma,
+        unresolved_walk_per_sqrt_s,
+        description,
+        comments,
+        Some(inconsistent),
+    )
+}
+
+fn render(
+    noise: &NoiseModel,
+    sigma: Option<&NoiseModel>,
+    unresolved_walk_per_sqrt_s: Option<[f64; 2]>,
+    description: &str,
+    comments: &[String],
+    inconsistent: Option<&[String]>,
+) -> String {
     let mut out = String::new();
     for c in comments {
         for line in c.lines() {
@@ -293,6 +354,21 @@ pub fn noise_to_toml(
             number(g / DEG_PER_H_PER_SQRT_H),
             number(a / UG_PER_SQRT_H)
         ));
+    }
+    let Some(inconsistent) = inconsistent else {
+        return out;
+    };
+    out.push_str(&format!(
+        "\n# Whether the identified model agrees with the data it came from (diagnose reads this)\n\
+         [identification]\nconsistent = {}\n",
+        inconsistent.is_empty()
+    ));
+    if !inconsistent.is_empty() {
+        out.push_str("inconsistent = [\n");
+        for r in inconsistent {
+            out.push_str(&format!("    {},\n", toml_util::quote(r)));
+        }
+        out.push_str("]\n");
     }
     out
 }

@@ -5,6 +5,7 @@
 use std::fs::File;
 use std::path::Path;
 
+#[cfg(feature = "polars")]
 use polars::prelude::{DataFrame, KeyValueMetadata, ParquetCompression, ParquetWriter};
 use sins_config::files::Temporary;
 
@@ -84,6 +85,7 @@ where
 
 /// Atomically write a DataFrame (e.g. a report table) as a zstd-compressed Parquet file with
 /// the given file-level key/value metadata. Returns the file size (bytes).
+#[cfg(feature = "polars")]
 pub fn write_parquet_df_atomic(
     path: &Path,
     df: &mut DataFrame,

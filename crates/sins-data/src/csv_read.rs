@@ -1,8 +1,8 @@
-//! Streaming CSV reader. Opening makes one validating pass over the whole file (row count,
-//! segment labels, every value and time step checked, with exact line numbers); batches are
-//! then parsed in a second pass.
+//! Streaming CSV reader. The metadata comment lines and the header are read line by line; the
+//! data rows are parsed by the `csv` crate (RFC 4180 quoting, CRLF). Opening makes one
+//! validating pass over the whole file (row count, segment labels, every value and time step
+//! checked, with exact line numbers); batches are then parsed in a second pass.
 
-use std::borrow::Cow;
 use std::collections::HashMap;
 use std::fs::File;
 use std::io::{BufRead, BufReader, Seek, SeekFrom};
@@ -57,46 +57,57 @@ impl Lines {
     }
 }
 
-/// Split a CSV line into fields (RFC 4180 quoting, no embedded line breaks).
-fn split_fields<'a>(line: &'a str, out: &mut Vec<Cow<'a, str>>) -> Result<(), String> {
-    out.clear();
-    let mut rest = line;
-    loop {
-        if let Some(quoted) = rest.strip_prefix('"') {
-            let mut value = String::new();
-            let mut chars = quoted.char_indices();
-            let after = loop {
-                match chars.next() {
-                    Some((i, '"')) => {
-                        if quoted[i + 1..].starts_with('"') {
-                            value.push('"');
-                            chars.next();
-                        } else {
-                            break &quoted[i + 1..];
-                        }
-                    }
-                    Some((_, c)) => value.push(c),
-                    None => return Err("unterminated quoted field".to_string()),
-                }
-            };
-            out.push(Cow::Owned(value));
-            match after.strip_prefix(',') {
-                Some(r) => rest = r,
-                None if after.is_empty() => return Ok(()),
-                None => return Err("text after a closing quote".to_string()),
-            }
-        } else {
-            match rest.find(',') {
-                Some(i) => {
-                    out.push(Cow::Borrowed(&rest[..i]));
-                    rest = &rest[i + 1..];
-                }
-                None => {
-                    out.push(Cow::Borrowed(rest));
-                    return Ok(());
+/// The data rows after the header, through the `csv` crate: 1-based line numbers in the file.
+struct Body {
+    path: PathBuf,
+    csv: csv::Reader<BufReader<File>>,
+    /// Lines before the first data line (comments and header).
+    line_offset: u64,
+}
+
+impl Body {
+    fn new(path: &Path, lines: Lines) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            line_offset: lines.line_no,
+            csv: csv::ReaderBuilder::new()
+                .has_headers(false)
+                .flexible(true)
+                .from_reader(lines.reader),
+        }
+    }
+
+    /// Read the next record into `rec`; its 1-based line, `None` at the end of the file.
+    fn next(&mut self, rec: &mut csv::ByteRecord) -> Result<Option<u64>, DataError> {
+        match self.csv.read_byte_record(rec) {
+            Ok(false) => Ok(None),
+            Ok(true) => Ok(Some(
+                self.line_offset + rec.position().map_or(0, csv::Position::line),
+            )),
+            Err(e) => {
+                let line = self.line_offset + e.position().map_or(0, csv::Position::line);
+                match e.into_kind() {
+                    csv::ErrorKind::Io(io) => Err(DataError::io(&self.path, "reading CSV", io)),
+                    other => Err(DataError::MalformedCsv {
+                        file: self.path.clone(),
+                        line,
+                        reason: format!("{other:?}"),
+                    }),
                 }
             }
         }
+    }
+}
+
+/// Fields of a header or record line, through the `csv` crate.
+fn split_fields(line: &str) -> Result<Vec<String>, String> {
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(line.as_bytes());
+    let mut rec = csv::StringRecord::new();
+    match reader.read_record(&mut rec) {
+        Ok(_) => Ok(rec.iter().map(str::to_string).collect()),
+        Err(e) => Err(e.to_string()),
     }
 }
 
@@ -113,33 +124,34 @@ struct RowParser {
 }
 
 impl RowParser {
-    /// Parse one data line into `self.values`; returns the segment text when present.
+    /// Parse one data record into `self.values`; returns the segment text when present.
     fn parse<'a>(
         &mut self,
-        line: &'a str,
+        rec: &'a csv::ByteRecord,
         at: RowRef,
-        fields: &mut Vec<Cow<'a, str>>,
-    ) -> Result<Option<Cow<'a, str>>, DataError> {
+    ) -> Result<Option<&'a str>, DataError> {
         let line_no = at.line.unwrap_or(0);
-        split_fields(line, fields).map_err(|reason| DataError::MalformedCsv {
-            file: self.path.clone(),
-            line: line_no,
-            reason,
-        })?;
-        if fields.len() != self.n_fields {
+        if rec.len() != self.n_fields {
             return Err(DataError::MalformedCsv {
                 file: self.path.clone(),
                 line: line_no,
                 reason: format!(
                     "expected {} fields (as in the header), found {}",
                     self.n_fields,
-                    fields.len()
+                    rec.len()
                 ),
             });
         }
+        let text_of = |pos: usize| {
+            std::str::from_utf8(rec.get(pos).unwrap_or(b"")).map_err(|_| DataError::MalformedCsv {
+                file: self.path.clone(),
+                line: line_no,
+                reason: "not valid UTF-8 text".to_string(),
+            })
+        };
         self.values.clear();
         for (k, &pos) in self.layout.float_pos.iter().enumerate() {
-            let text = fields[pos].trim();
+            let text = text_of(pos)?.trim();
             let name = self.float_names[k];
             let x: f64 = text.parse().map_err(|_| DataError::BadValue {
                 file: self.path.clone(),
@@ -163,16 +175,14 @@ impl RowParser {
             self.values.push(x);
         }
         self.time.check(&self.path, at, self.values[0])?;
-        Ok(self
-            .layout
-            .segment_pos
-            .map(|p| std::mem::replace(&mut fields[p], Cow::Borrowed(""))))
+        self.layout.segment_pos.map(text_of).transpose()
     }
 }
 
 /// An open CSV dataset (second pass).
 pub(crate) struct CsvSource {
-    lines: Lines,
+    body: Body,
+    rec: csv::ByteRecord,
     parser: RowParser,
     lookup: HashMap<String, u16>,
     row: u64,
@@ -206,14 +216,12 @@ pub(crate) fn open_csv(path: &Path, mut f: File) -> Result<(DatasetInfo, CsvSour
     let mut labels: Vec<String> = Vec::new();
     let mut lookup: HashMap<String, u16> = HashMap::new();
     let mut n_rows = 0u64;
-    while let Some((line_no, line)) = lines.next_line()? {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let mut fields = Vec::new();
+    let mut body = Body::new(path, lines);
+    let mut rec = csv::ByteRecord::new();
+    while let Some(line_no) = body.next(&mut rec)? {
         let at = RowRef::csv(n_rows, line_no);
-        if let Some(seg) = parser.parse(line, at, &mut fields)?
-            && !lookup.contains_key(seg.as_ref())
+        if let Some(seg) = parser.parse(&rec, at)?
+            && !lookup.contains_key(seg)
         {
             if labels.len() >= MAX_SEGMENT_LABELS {
                 return Err(DataError::BadSegment {
@@ -223,7 +231,7 @@ pub(crate) fn open_csv(path: &Path, mut f: File) -> Result<(DatasetInfo, CsvSour
                 });
             }
             lookup.insert(seg.to_string(), labels.len() as u16);
-            labels.push(seg.into_owned());
+            labels.push(seg.to_string());
         }
         n_rows += 1;
     }
@@ -252,7 +260,8 @@ pub(crate) fn open_csv(path: &Path, mut f: File) -> Result<(DatasetInfo, CsvSour
         ignored_columns: layout.ignored.clone(),
     };
     let source = CsvSource {
-        lines: lines2,
+        body: Body::new(path, lines2),
+        rec: csv::ByteRecord::new(),
         parser: new_parser(layout),
         lookup,
         row: 0,
@@ -282,8 +291,7 @@ fn read_preamble(path: &Path, lines: &mut Lines) -> Result<(DatasetMeta, Layout,
         }
         break line.to_string();
     };
-    let mut fields = Vec::new();
-    split_fields(&header, &mut fields).map_err(|reason| DataError::MalformedCsv {
+    let fields = split_fields(&header).map_err(|reason| DataError::MalformedCsv {
         file: path.to_path_buf(),
         line: lines.line_no,
         reason,
@@ -355,25 +363,18 @@ impl CsvSource {
             reference: cols.reference.then(|| reuse(spare.reference, cap)),
         };
         while batch.samples.len() < MAX_BATCH_ROWS {
-            let Some((line_no, line)) = self.lines.next_line()? else {
+            let Some(line_no) = self.body.next(&mut self.rec)? else {
                 self.parser.time.finish(&info.path)?;
                 break;
             };
-            if line.trim().is_empty() {
-                continue;
-            }
-            let mut fields = Vec::new();
             let at = RowRef::csv(self.row, line_no);
-            let seg = self.parser.parse(line, at, &mut fields)?;
+            let seg = self.parser.parse(&self.rec, at)?;
             if let (Some(seg), Some(out)) = (seg, batch.segment_index.as_mut()) {
-                let idx = *self
-                    .lookup
-                    .get(seg.as_ref())
-                    .ok_or_else(|| DataError::BadSegment {
-                        file: info.path.clone(),
-                        at,
-                        reason: format!("label {seg:?} was not seen when the file was opened"),
-                    })?;
+                let idx = *self.lookup.get(seg).ok_or_else(|| DataError::BadSegment {
+                    file: info.path.clone(),
+                    at,
+                    reason: format!("label {seg:?} was not seen when the file was opened"),
+                })?;
                 out.push(idx);
             }
             let v = &self.parser.values;

@@ -224,7 +224,9 @@ pub enum DataError {
     },
     /// A step of `t_s` differs from the sample interval 1/rate (missing samples or jitter).
     #[error(
-        "{}: {at}: gap in t_s: step from the previous row is {} s, expected {} s (1/sample_rate_hz)",
+        "{}: {at}: gap in t_s: step from the previous row is {} s, expected {} s \
+         (1/sample_rate_hz; steps within 45 % of it are taken as jitter); dropped samples are \
+         bridged by `sinsbench import`",
         file.display(), short(.step_s), short(.expected_step_s)
     )]
     TimeGap {
@@ -281,6 +283,7 @@ pub enum DataError {
         reason: String,
     },
     /// Polars reported an error (used by the DataFrame helpers).
+    #[cfg(feature = "polars")]
     #[error("{}: {source}", file.display())]
     Polars {
         /// The file.
@@ -323,8 +326,9 @@ impl DataError {
             | Self::SampleRateMismatch { file, .. }
             | Self::BadSegment { file, .. }
             | Self::Empty { file }
-            | Self::InvalidWrite { file, .. }
-            | Self::Polars { file, .. } => file,
+            | Self::InvalidWrite { file, .. } => file,
+            #[cfg(feature = "polars")]
+            Self::Polars { file, .. } => file,
         }
     }
 

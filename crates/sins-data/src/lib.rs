@@ -4,7 +4,7 @@
 //!
 //! | column | type | unit | presence |
 //! |---|---|---|---|
-//! | `t_s` | Float64 | s | required, strictly increasing by 1/rate |
+//! | `t_s` | Float64 | s | required, strictly increasing by 1/rate (recorded stamps may jitter) |
 //! | `dtheta_{x,y,z}_rad` | Float64 | rad | required |
 //! | `dv_{x,y,z}_mps` | Float64 | m/s | required |
 //! | `temp_a{x,y,z}_degc` | Float64 | degC | optional, all three or none |
@@ -13,11 +13,13 @@
 //!
 //! File-level metadata (Parquet key/value metadata, or leading `# key = value` lines in CSV):
 //! `sinsbench.schema_version` (`1`), `sinsbench.sample_rate_hz`, `sinsbench.site_latitude_deg`,
-//! `sinsbench.site_longitude_deg`, `sinsbench.site_height_m`, `sinsbench.description`; any other
+//! `sinsbench.site_longitude_deg`, `sinsbench.site_height_m`, `sinsbench.description` (optional,
+//! empty when absent), `sinsbench.time_base` (optional: `nominal` or `recorded`); any other
 //! `sinsbench.<name>` key is kept in [`DatasetMeta::extra`] under `<name>`.
 //!
 //! Writing ([`DatasetWriter`]) and reading ([`DatasetReader`]) stream in bounded batches and
-//! validate every row (finite values, `t_s` strictly increasing with steps of 1/rate within 1 %);
+//! validate every row (finite values, `t_s` strictly increasing with steps of 1/rate within
+//! 45 % and a mean step within 1 % of 1/rate);
 //! every [`DataError`] names the file and, where it applies, the row, line, column or key.
 //!
 //! Parquet files are read and written with the Apache Arrow `parquet` crate's file API (no
@@ -70,11 +72,14 @@ mod schema;
 mod validate;
 mod writer;
 
-pub use atomic::{atomic_write, write_parquet_df_atomic};
+pub use atomic::atomic_write;
+#[cfg(feature = "polars")]
+pub use atomic::write_parquet_df_atomic;
 pub use error::{DataError, RowRef};
 pub use meta::{
-    DatasetMeta, KEY_DESCRIPTION, KEY_PREFIX, KEY_SAMPLE_RATE_HZ, KEY_SCHEMA_VERSION,
-    KEY_SITE_HEIGHT_M, KEY_SITE_LATITUDE_DEG, KEY_SITE_LONGITUDE_DEG, SCHEMA_VERSION,
+    DatasetMeta, EXTRA_TIME_BASE, KEY_DESCRIPTION, KEY_PREFIX, KEY_SAMPLE_RATE_HZ,
+    KEY_SCHEMA_VERSION, KEY_SITE_HEIGHT_M, KEY_SITE_LATITUDE_DEG, KEY_SITE_LONGITUDE_DEG,
+    SCHEMA_VERSION,
 };
 pub use pq_write::{Compression, DEFAULT_COMPRESSION, DEFAULT_ROW_GROUP_ROWS, ParquetWriteOptions};
 pub use reader::{DatasetReader, read_all};
@@ -83,5 +88,5 @@ pub use schema::{
     REFERENCE_COLUMNS, REQUIRED_COLUMNS, ReferenceRow, SEGMENT_COLUMN, SampleBatch,
     TEMPERATURE_COLUMNS, WriteSummary,
 };
-pub use validate::STEP_TOLERANCE_FRACTION;
+pub use validate::{MEAN_STEP_TOLERANCE_FRACTION, STEP_TOLERANCE_FRACTION};
 pub use writer::DatasetWriter;

@@ -21,8 +21,11 @@ pub const KEY_SITE_LATITUDE_DEG: &str = "sinsbench.site_latitude_deg";
 pub const KEY_SITE_LONGITUDE_DEG: &str = "sinsbench.site_longitude_deg";
 /// Metadata key: site height above the ellipsoid (m).
 pub const KEY_SITE_HEIGHT_M: &str = "sinsbench.site_height_m";
-/// Metadata key: free-text description.
+/// Metadata key: free-text description (optional; empty when absent).
 pub const KEY_DESCRIPTION: &str = "sinsbench.description";
+/// Extra metadata name (without the prefix) of the time base: `nominal` (t = t0 + k / rate,
+/// the default when absent) or `recorded` (the recorder's stamps, which may jitter).
+pub const EXTRA_TIME_BASE: &str = "time_base";
 
 const STANDARD_KEYS: [&str; 6] = [
     KEY_SCHEMA_VERSION,
@@ -59,6 +62,14 @@ impl DatasetMeta {
             description: description.into(),
             extra: BTreeMap::new(),
         }
+    }
+
+    /// True when `t_s` holds recorded stamps (`sinsbench.time_base = recorded`): navigation
+    /// then integrates over each sample's own interval.
+    pub fn recorded_stamps(&self) -> bool {
+        self.extra
+            .get(EXTRA_TIME_BASE)
+            .is_some_and(|v| v == "recorded")
     }
 
     /// The nominal sample interval 1/rate (s).
@@ -195,12 +206,20 @@ impl DatasetMeta {
             "must be in [-360, 360]",
         )?;
         let height_m = num(KEY_SITE_HEIGHT_M, f64::MIN, f64::MAX, "must be finite")?;
-        let description = get(KEY_DESCRIPTION)?.to_string();
+        let description = map.get(KEY_DESCRIPTION).copied().unwrap_or("").to_string();
         let extra = map
             .iter()
             .filter(|(k, _)| !STANDARD_KEYS.contains(k))
             .map(|(k, v)| (k[KEY_PREFIX.len()..].to_string(), v.to_string()))
             .collect();
+        let extra: BTreeMap<String, String> = extra;
+        if let Some(v) = extra.get(EXTRA_TIME_BASE)
+            && v != "nominal"
+            && v != "recorded"
+        {
+            let key = format!("{KEY_PREFIX}{EXTRA_TIME_BASE}");
+            return Err(invalid(file, &key, v, "must be 'nominal' or 'recorded'"));
+        }
         Ok(Self {
             schema_version,
             sample_rate_hz,

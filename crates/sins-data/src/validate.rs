@@ -1,5 +1,11 @@
-//! Row checks shared by the readers and the writer: finite values and a regular, strictly
-//! increasing time axis that agrees with the metadata sample rate.
+//! Row checks shared by the readers and the writer: finite values and a strictly increasing
+//! time axis that agrees with the metadata sample rate.
+//!
+//! Recorded time stamps jitter: a step between 0.55 and 1.45 sample intervals is one interval
+//! ([`STEP_TOLERANCE_FRACTION`]); a longer one is a gap (dropped samples, which
+//! `sinsbench import` bridges), a shorter one an error. Over the whole file the mean step must
+//! agree with 1/rate within [`MEAN_STEP_TOLERANCE_FRACTION`], so jitter cannot hide a wrong
+//! rate.
 //!
 //! A step that disagrees with the sample interval is reported one row late: when the next row
 //! goes back in time, the two rows are out of order (e.g. a swapped pair) and the error says
@@ -10,8 +16,14 @@ use std::path::Path;
 
 use crate::error::{DataError, RowRef};
 
-/// Relative tolerance on a `t_s` step, as a fraction of the nominal interval 1/rate.
-pub const STEP_TOLERANCE_FRACTION: f64 = 0.01;
+/// Relative tolerance on one `t_s` step, as a fraction of the nominal interval 1/rate: recorded
+/// stamps jitter (a PC-stamped 64 Hz log by about 1 %, a USB logger by tens of percent). A step
+/// of 1.45 intervals or more is a gap (a dropped sample is a step of 2).
+pub const STEP_TOLERANCE_FRACTION: f64 = 0.45;
+
+/// Relative tolerance on the mean step over the whole file, (last - first) / (rows - 1),
+/// against 1/rate: a wrong `sinsbench.sample_rate_hz` cannot hide behind the jitter band.
+pub const MEAN_STEP_TOLERANCE_FRACTION: f64 = 0.01;
 
 /// Sequential checker of the `t_s` axis.
 #[derive(Clone, Debug)]
@@ -19,6 +31,12 @@ pub(crate) struct TimeCheck {
     rate_hz: f64,
     dt_s: f64,
     prev_t_s: Option<f64>,
+    /// First row's `t_s` and its row reference.
+    first: Option<(RowRef, f64)>,
+    /// Rows checked.
+    n_rows: u64,
+    /// Latest row checked.
+    last_at: Option<RowRef>,
     first_step_seen: bool,
     /// A gap found at the latest row (where, step in s), reported unless the next row goes
     /// back in time.
@@ -32,6 +50,9 @@ impl TimeCheck {
             rate_hz,
             dt_s: 1.0 / rate_hz,
             prev_t_s: None,
+            first: None,
+            n_rows: 0,
+            last_at: None,
             first_step_seen: false,
             pending_gap: None,
         }
@@ -64,6 +85,8 @@ impl TimeCheck {
                 .fold(true, |ok, (&a, &b)| ok & good(a, b));
         if all_good {
             self.prev_t_s = Some(last);
+            self.n_rows += t_s.len() as u64;
+            self.last_at = Some(RowRef::row(first_row + t_s.len() as u64 - 1));
             Ok(())
         } else {
             self.check_rows(file, first_row, t_s)
@@ -92,10 +115,14 @@ impl TimeCheck {
                     t_s,
                 });
             }
-            self.finish(file)?;
+            self.finish_gap(file)?;
             self.check_step(file, at, prev_t_s, t_s)?;
+        } else {
+            self.first = Some((at, t_s));
         }
         self.prev_t_s = Some(t_s);
+        self.n_rows += 1;
+        self.last_at = Some(at);
         Ok(())
     }
 
@@ -127,8 +154,32 @@ impl TimeCheck {
         Ok(())
     }
 
-    /// The gap found at the latest row, if any: call after the last row of `file`.
+    /// The gap found at the latest row, if any, then the mean step over the whole file: call
+    /// after the last row of `file`.
     pub fn finish(&mut self, file: &Path) -> Result<(), DataError> {
+        self.finish_gap(file)?;
+        let (Some((_, t0)), Some(t1), Some(at)) = (self.first, self.prev_t_s, self.last_at) else {
+            return Ok(());
+        };
+        if self.n_rows < 2 {
+            return Ok(());
+        }
+        let mean_step_s = (t1 - t0) / (self.n_rows - 1) as f64;
+        let tol = MEAN_STEP_TOLERANCE_FRACTION * self.dt_s + 4.0 * f64::EPSILON * t1.abs();
+        if (mean_step_s - self.dt_s).abs() > tol {
+            return Err(DataError::SampleRateMismatch {
+                file: file.to_path_buf(),
+                at,
+                meta_rate_hz: self.rate_hz,
+                step_s: mean_step_s,
+                implied_rate_hz: 1.0 / mean_step_s,
+            });
+        }
+        Ok(())
+    }
+
+    /// The gap found at the latest row, if any.
+    fn finish_gap(&mut self, file: &Path) -> Result<(), DataError> {
         match self.pending_gap.take() {
             Some((at, step_s)) => Err(DataError::TimeGap {
                 file: file.to_path_buf(),

@@ -133,6 +133,7 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         validation,
         series: run_series,
         notes,
+        noise_untrusted: Vec::new(),
     })
 }
 

@@ -112,6 +112,9 @@ fn replay_impl(
         start: StartMode::Align(setup.alignment),
         reconstruct: setup.reconstruct,
         output_interval_s: 1.0,
+        // The twin is built on the nominal interval, so the real track is too.
+        stamped_intervals: false,
+        start_s: None,
     };
     let mut replay = build_replay(run, params, *site, h, t0, &options)
         .map_err(|e| DiagError::input(run, e.to_string()))?;

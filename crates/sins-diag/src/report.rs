@@ -317,4 +317,9 @@ pub struct Diagnosis {
     /// detectable levels through each run.
     #[serde(default)]
     pub events: crate::events::EventScan,
+    /// Why the twin's noise model cannot be trusted (empty when it can): the noise
+    /// identification found its model inconsistent with the data it came from. The verdict
+    /// then stands on a twin whose spread may be wrong, and says so.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub noise_untrusted: Vec<String>,
 }

@@ -18,11 +18,12 @@ mod markdown_events;
 mod noise;
 mod run;
 mod source;
+pub mod still;
 mod write;
 
 pub use error::GapError;
 pub use markdown::render_markdown;
-pub use noise::identify_datasets;
+pub use noise::{identify_datasets, identify_datasets_with};
 pub use run::{DiagnoseRequest, DiagnosisOutcome, diagnose_datasets};
 pub use source::DatasetSource;
 pub use write::write_diagnosis;

@@ -50,6 +50,17 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
     let d = &o.diagnosis;
     let mut md = String::from("# Sim-to-real gap diagnosis\n\n");
     let _ = writeln!(md, "{}\n", verdict_line(&d.verdict));
+    if !d.noise_untrusted.is_empty() {
+        let _ = writeln!(
+            md,
+            "**The twin's noise cannot be trusted**, so neither can this verdict: the noise \
+             identification found its model inconsistent with the data it came from:\n"
+        );
+        for r in &d.noise_untrusted {
+            let _ = writeln!(md, "- {r}");
+        }
+        md.push('\n');
+    }
     let mut t = Table::new([
         "run",
         "dataset",

@@ -16,6 +16,19 @@ pub fn identify_datasets(
     labels: &[String],
     compensation: Option<&ImuErrorParams>,
 ) -> Result<IdentifiedNoise, GapError> {
+    let cfg = NoiseIdConfig {
+        labels: labels.to_vec(),
+        ..NoiseIdConfig::default()
+    };
+    identify_datasets_with(datasets, &cfg, compensation)
+}
+
+/// [`identify_datasets`] with every setting of the identification given.
+pub fn identify_datasets_with(
+    datasets: &[(String, PathBuf)],
+    cfg: &NoiseIdConfig,
+    compensation: Option<&ImuErrorParams>,
+) -> Result<IdentifiedNoise, GapError> {
     let mut sources = Vec::new();
     for (name, path) in datasets {
         sources.push((name.clone(), DatasetSource::open(path, name)?));
@@ -34,11 +47,7 @@ pub fn identify_datasets(
             }
         })
         .collect();
-    let cfg = NoiseIdConfig {
-        labels: labels.to_vec(),
-        ..NoiseIdConfig::default()
-    };
-    sins_noiseid::identify_noise(&mut runs, &cfg).map_err(|e| {
+    sins_noiseid::identify_noise(&mut runs, cfg).map_err(|e| {
         let files: Vec<String> = datasets
             .iter()
             .map(|(_, p)| p.display().to_string())

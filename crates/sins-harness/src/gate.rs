@@ -10,6 +10,11 @@
 //! [experiment.nav2]                           # overrides for one experiment
 //! max_horizontal_nmi = { "42-state" = 2.5 }
 //! ```
+//!
+//! A key that matches nothing in the summary (an experiment it does not have, a parameter set
+//! none of its experiments has) is refused by [`Thresholds::check`]: a misspelt name must not
+//! make the gate check less than it says. The JUnit report begins with [`JUNIT_HEAD`], the
+//! mark by which the gate recognises a report it may replace.
 
 use crate::HarnessError;
 use crate::summary::Summary;
@@ -105,8 +110,10 @@ impl Thresholds {
     }
 
     /// Check every experiment of `summary`, read from `summary_path`; an error names that file
-    /// when there is nothing to check (no experiment, or none the limits apply to): a gate that
-    /// checks nothing must not pass.
+    /// when there is nothing to check (no experiment, or none the limits apply to: a gate that
+    /// checks nothing must not pass) and when a key of the thresholds matches nothing in the
+    /// summary ([`Thresholds::unmatched_keys`]: a misspelt name would otherwise check nothing
+    /// or fail for the wrong reason).
     pub fn check(
         &self,
         summary: &Summary,
@@ -121,6 +128,10 @@ impl Thresholds {
                 "the summary has no experiments, so the gate would check nothing",
             ));
         }
+        let unmatched = self.unmatched_keys(summary);
+        if !unmatched.is_empty() {
+            return Err(malformed(&unmatched_message(&unmatched, summary)));
+        }
         let checks = self.evaluate(summary);
         if checks.is_empty() {
             return Err(malformed(
@@ -128,6 +139,38 @@ impl Thresholds {
             ));
         }
         Ok(checks)
+    }
+
+    /// The keys that match nothing in `summary`, as `experiment.NAME` (no such experiment),
+    /// `default.max_horizontal_nmi."SET"` (no experiment has that parameter set) or
+    /// `experiment.NAME.max_horizontal_nmi."SET"` (that experiment has no such set). A set of
+    /// `[default]` that some experiments have and others lack is not listed: for those it is a
+    /// failed check.
+    pub fn unmatched_keys(&self, summary: &Summary) -> Vec<String> {
+        let mut keys = Vec::new();
+        let has_set = |set: &str| {
+            summary
+                .experiments
+                .iter()
+                .any(|e| e.results.contains_key(set))
+        };
+        for set in self.default.max_horizontal_nmi.keys() {
+            if !has_set(set) {
+                keys.push(format!("default.max_horizontal_nmi.\"{set}\""));
+            }
+        }
+        for (name, limits) in &self.experiment {
+            let Some(e) = summary.experiments.iter().find(|e| &e.name == name) else {
+                keys.push(format!("experiment.{name}"));
+                continue;
+            };
+            for set in limits.max_horizontal_nmi.keys() {
+                if !e.results.contains_key(set) {
+                    keys.push(format!("experiment.{name}.max_horizontal_nmi.\"{set}\""));
+                }
+            }
+        }
+        keys
     }
 
     /// Check every experiment of `summary` (no check at all when it has no experiment or the
@@ -212,6 +255,29 @@ impl Thresholds {
     }
 }
 
+/// The refusal of thresholds keys that match nothing: each key, then the names the summary has.
+fn unmatched_message(keys: &[String], summary: &Summary) -> String {
+    let experiments: Vec<&str> = summary
+        .experiments
+        .iter()
+        .map(|e| e.name.as_str())
+        .collect();
+    let sets: std::collections::BTreeSet<&str> = summary
+        .experiments
+        .iter()
+        .flat_map(|e| e.results.keys().map(String::as_str))
+        .collect();
+    let sets: Vec<&str> = sets.into_iter().collect();
+    format!(
+        "the thresholds name what this summary does not have: {}; the summary's experiments are \
+         {} and its parameter sets {}; correct those keys of the thresholds (names are \
+         case-sensitive) or gate the summary they were written for",
+        keys.join(", "),
+        experiments.join(", "),
+        sets.join(", ")
+    )
+}
+
 fn xml_escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
@@ -219,11 +285,27 @@ fn xml_escape(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// JUnit XML of the checks (one test case per check).
+/// How every JUnit report of the gate begins: the root `<testsuites name="sinsbench gate">` is
+/// the mark by which `sinsbench gate --junit` knows a file it may replace ([`is_gate_junit`]).
+pub const JUNIT_HEAD: &str =
+    "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"sinsbench gate\">\n";
+
+/// How the reports of the gate began before [`JUNIT_HEAD`] (an unnamed root, then the suite
+/// `sinsbench gate <summary name>`); still recognised as the gate's own.
+const JUNIT_HEAD_UNMARKED: &str =
+    "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n  <testsuite name=\"sinsbench gate ";
+
+/// True when `head` (the first bytes of a file: 128 suffice) is the beginning of a JUnit report
+/// the gate wrote.
+pub fn is_gate_junit(head: &[u8]) -> bool {
+    head.starts_with(JUNIT_HEAD.as_bytes()) || head.starts_with(JUNIT_HEAD_UNMARKED.as_bytes())
+}
+
+/// JUnit XML of the checks (one test case per check), beginning with [`JUNIT_HEAD`].
 pub fn junit_xml(suite: &str, checks: &[Check]) -> String {
     let failures = checks.iter().filter(|c| !c.passed).count();
     let mut x = format!(
-        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n  <testsuite name=\"{}\" tests=\"{}\" failures=\"{failures}\">\n",
+        "{JUNIT_HEAD}  <testsuite name=\"{}\" tests=\"{}\" failures=\"{failures}\">\n",
         xml_escape(suite),
         checks.len()
     );
@@ -248,4 +330,65 @@ pub fn junit_xml(suite: &str, checks: &[Check]) -> String {
     }
     x.push_str("  </testsuite>\n</testsuites>\n");
     x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn limits(sets: &[&str]) -> Limits {
+        Limits {
+            max_horizontal_nmi: sets.iter().map(|s| (s.to_string(), 3.0)).collect(),
+            min_improvement_percent: None,
+        }
+    }
+
+    #[test]
+    fn keys_that_match_nothing_are_named_and_refused() {
+        let summary = Summary::example(2.0, 3.0);
+        let mut t = Thresholds {
+            schema: THRESHOLDS_SCHEMA,
+            default: limits(&["42-state", "99-state"]),
+            experiment: BTreeMap::from([
+                ("NAV1".to_string(), limits(&["42-state"])),
+                ("nav1".to_string(), limits(&["30-state", "42-State"])),
+            ]),
+        };
+        assert_eq!(
+            t.unmatched_keys(&summary),
+            [
+                "default.max_horizontal_nmi.\"99-state\"",
+                "experiment.NAV1",
+                "experiment.nav1.max_horizontal_nmi.\"42-State\""
+            ]
+        );
+        let e = t
+            .check(&summary, Path::new("s.json"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("s.json: the thresholds name what this summary does not have: ")
+                && e.contains("experiments are nav1 and its parameter sets 30-state, 42-state;"),
+            "{e}"
+        );
+        t.default = limits(&["42-state"]);
+        t.experiment = BTreeMap::from([("nav1".to_string(), limits(&["30-state"]))]);
+        assert!(t.unmatched_keys(&summary).is_empty());
+        assert_eq!(
+            t.check(&summary, Path::new("s.json")).map(|c| c.len()).ok(),
+            Some(2)
+        );
+    }
+
+    #[test]
+    fn the_gate_knows_its_own_junit_reports() {
+        let xml = junit_xml("sinsbench gate x", &[]);
+        assert!(is_gate_junit(xml.as_bytes()));
+        assert!(is_gate_junit(&xml.as_bytes()[..JUNIT_HEAD.len()]));
+        assert!(!is_gate_junit(&xml.as_bytes()[..JUNIT_HEAD.len() - 1]));
+        assert!(!is_gate_junit(
+            b"<testsuites><testsuite name=\"unit\"/></testsuites>"
+        ));
+        assert!(!is_gate_junit(b""));
+    }
 }

@@ -80,20 +80,30 @@ pub struct MultiReplay {
 
 impl MultiReplay {
     /// Replays of run `run` (for errors) under each of `sets`, for samples every
-    /// `sample_interval_s` at `site`; `labels` name the segment indices of the samples.
+    /// `sample_interval_s` from `start_time_s` (the start of the first sample's interval) at
+    /// `site`; `labels` name the segment indices of the samples.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         run: &str,
         sets: &[NamedParams],
         site: Geodetic,
         sample_interval_s: f64,
+        start_time_s: f64,
         labels: Vec<String>,
         options: &ReplayOptions,
     ) -> Result<Self, HarnessError> {
         let replays = sets
             .iter()
             .map(|s| {
-                build_replay(&s.key, &s.params, site, sample_interval_s, 0.0, options)
-                    .map(|r| (s.key.clone(), r))
+                build_replay(
+                    &s.key,
+                    &s.params,
+                    site,
+                    sample_interval_s,
+                    start_time_s,
+                    options,
+                )
+                .map(|r| (s.key.clone(), r))
             })
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Self {
@@ -190,6 +200,7 @@ pub fn simulate_and_replay(
         sets,
         scenario.site,
         sim.sample_interval_s(),
+        0.0,
         sim.segment_labels().to_vec(),
         options,
     )?;

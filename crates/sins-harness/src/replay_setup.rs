@@ -45,6 +45,13 @@ pub struct ReplayOptions {
     pub reconstruct: ReconstructConfig,
     /// Interval of the error output (s).
     pub output_interval_s: f64,
+    /// Integrate each sample over its own recorded interval (the step of `t_s` from the
+    /// previous sample) instead of the nominal 1/rate: for datasets whose
+    /// `sinsbench.time_base` is `recorded`. The alignment keeps the nominal interval.
+    pub stamped_intervals: bool,
+    /// Replay only the samples whose interval starts at or after this time (s, the dataset's
+    /// own time); `None` replays from the first sample. The alignment then starts there.
+    pub start_s: Option<f64>,
 }
 
 impl Default for ReplayOptions {
@@ -56,6 +63,8 @@ impl Default for ReplayOptions {
             start: StartMode::Align(AlignmentConfig::default()),
             reconstruct: ReconstructConfig::default(),
             output_interval_s: 1.0,
+            stamped_intervals: false,
+            start_s: None,
         }
     }
 }
@@ -99,5 +108,6 @@ pub fn build_replay(
         output_interval_s: options.output_interval_s,
     };
     Ok(Replay::new(config, compensator, site, start_time_s)
-        .with_reconstruction(options.reconstruct))
+        .with_reconstruction(options.reconstruct)
+        .with_stamped_intervals(options.stamped_intervals))
 }

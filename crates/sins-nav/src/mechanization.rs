@@ -180,6 +180,8 @@ pub struct Strapdown {
     prev_vel_ned_mps: Vec3,
     buffer: [Increment; 4],
     n_buffered: usize,
+    /// Sum of the buffered samples' own intervals (s), for [`Strapdown::push_timed`].
+    buffered_interval_s: f64,
     previous: Option<Increment>,
     last_specific_force_ned_mps2: Vec3,
 }
@@ -193,6 +195,7 @@ impl Strapdown {
             state,
             buffer: [Increment::default(); 4],
             n_buffered: 0,
+            buffered_interval_s: 0.0,
             previous: None,
             last_specific_force_ned_mps2: Vec3::zeros(),
         }
@@ -234,6 +237,25 @@ impl Strapdown {
         self.n_buffered = 0;
         let (phi, dv_body) = self.compensated_increments();
         self.advance(&phi, &dv_body);
+        true
+    }
+
+    /// Add one sample that covers its own interval `interval_s` (s), for data whose recorded
+    /// time stamps are trusted: the update advances over the sum of its samples' intervals
+    /// instead of a multiple of the nominal one. Returns true when it completed an update.
+    /// Do not mix with [`Strapdown::push`] within one update.
+    #[inline]
+    pub fn push_timed(&mut self, inc: &Increment, interval_s: f64) -> bool {
+        self.buffer[self.n_buffered] = *inc;
+        self.n_buffered += 1;
+        self.buffered_interval_s += interval_s;
+        if self.n_buffered < self.config.coning.samples_per_update() {
+            return false;
+        }
+        self.n_buffered = 0;
+        let t = std::mem::take(&mut self.buffered_interval_s);
+        let (phi, dv_body) = self.compensated_increments();
+        self.advance_interval(&phi, &dv_body, t);
         true
     }
 

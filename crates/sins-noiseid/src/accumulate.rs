@@ -80,7 +80,7 @@ impl Accumulator {
             min_stretch_samples: (min_stretch_s / h_s).ceil() as u64,
             pooled: BTreeMap::new(),
             stretches: Vec::new(),
-            lattice: [LatticeDetector::default(); 3],
+            lattice: std::array::from_fn(|_| LatticeDetector::default()),
             skipped: Vec::new(),
             open: None,
         }
@@ -94,6 +94,14 @@ impl Accumulator {
     #[inline]
     pub fn push(&mut self, run: usize, s: &ImuSample, stationary: bool) {
         if !stationary {
+            // The lattice is checked over every sample, its quantum read from the still ones.
+            for (l, g) in
+                self.lattice
+                    .iter_mut()
+                    .zip([s.dtheta_rad.x, s.dtheta_rad.y, s.dtheta_rad.z])
+            {
+                l.check(g);
+            }
             self.close();
             return;
         }

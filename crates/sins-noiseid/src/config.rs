@@ -25,6 +25,9 @@ pub struct NoiseIdConfig {
     pub fit_rate_random_walk: bool,
     /// Coverage of the Allan-deviation intervals (default 0.6827, 1-sigma equivalent).
     pub coverage: f64,
+    /// The stillness detector that finds still stretches in unlabelled runs and motion inside
+    /// labelled ones.
+    pub stillness: crate::still::StillnessConfig,
 }
 
 impl Default for NoiseIdConfig {
@@ -37,6 +40,7 @@ impl Default for NoiseIdConfig {
             correlation_grid_points: 49,
             fit_rate_random_walk: true,
             coverage: 0.682_689_492_137_085_9,
+            stillness: crate::still::StillnessConfig::default(),
         }
     }
 }

@@ -68,12 +68,21 @@ pub fn identify_noise(
         }
     }
     let mut acc = Accumulator::new(h_s, cfg.min_stretch_s);
+    let mut motion = Vec::new();
+    let mut unjudged = Vec::new();
     for (i, r) in runs.iter_mut().enumerate() {
+        // A run without labels is searched whole; a labelled run only in its still labels.
+        let unlabelled = r.segment_labels.is_empty();
         let keep: Vec<bool> = r
             .segment_labels
             .iter()
             .map(|l| cfg.labels.iter().any(|k| k == l))
             .collect();
+        let candidate = |g: u16| unlabelled || keep.get(usize::from(g)).copied().unwrap_or(false);
+        let found = find_still(r, h_s, &candidate, &cfg.stillness)?;
+        if !found.judged {
+            unjudged.push(r.name.clone());
+        }
         let comp = match &r.compensation {
             Some(p) => Some(Compensator::new(*p).ok_or_else(|| NoiseIdError::Run {
                 run: r.name.clone(),
@@ -81,9 +90,10 @@ pub fn identify_noise(
             })?),
             None => None,
         };
+        let mut cursor = WindowCursor::default();
         r.source.visit(&mut |samples, segs| {
             for (s, g) in samples.iter().zip(segs) {
-                let stationary = keep.get(usize::from(*g)).copied().unwrap_or(false);
+                let stationary = candidate(*g) && cursor.still(&found);
                 match &comp {
                     Some(c) if stationary => {
                         let mut s = *s;
@@ -96,12 +106,15 @@ pub fn identify_noise(
             Ok(())
         })?;
         acc.close();
+        motion.extend(found.stillness.motion);
     }
     if acc.stretches.is_empty() {
         return Err(NoiseIdError::NotEnoughData(format!(
-            "no stretch of at least {} s labelled {} in any run",
+            "no still stretch of at least {} s in any run (searched: the segments labelled {}, \
+             or the whole run where it has no labels; {} stretch(es) of motion found)",
             cfg.min_stretch_s,
-            cfg.labels.join(" or ")
+            cfg.labels.join(" or "),
+            motion.len()
         )));
     }
     let longest_s = acc
@@ -140,7 +153,7 @@ pub fn identify_noise(
         rrw: cfg.fit_rate_random_walk,
         h_s,
     };
-    let lattice: Option<[f64; 3]> = match acc.lattice.map(|l| l.quantum()) {
+    let lattice: Option<[f64; 3]> = match acc.lattice.each_ref().map(|l| l.quantum()) {
         [Some(a), Some(b), Some(c)] => Some([a, b, c]),
         _ => None,
     };
@@ -203,11 +216,13 @@ pub fn identify_noise(
             ));
         }
     }
+    let mut inconsistent = lattice_findings(&acc, &mut notes);
     let mut curves = Vec::new();
     for c in 0..CHANNELS {
         let (set, a) = if c < 3 { (&gyro, c) } else { (&accel, c - 3) };
         curves.push(ctx.curve(c, &set.axes[a], &set.triad, a, cfg.coverage));
     }
+    inconsistent.extend(curves.iter().filter_map(model_check));
     let runs_out = runs
         .iter()
         .enumerate()
@@ -226,6 +241,26 @@ pub fn identify_noise(
         .iter()
         .map(|s| stretch_report(s, &runs[s.run], h_s))
         .collect();
+    for m in &motion {
+        notes.push(format!(
+            "motion in {} at {:.1}-{:.1} s: {} left its still level by {}, vibration {} RMS \
+             (detector statistic {:.1} x its threshold); left out",
+            m.run,
+            m.start_s,
+            m.end_s,
+            m.channel,
+            motion_size_text(&m.channel, m.size),
+            motion_size_text(&m.channel, m.vibration),
+            m.excess
+        ));
+    }
+    if !unjudged.is_empty() {
+        notes.push(format!(
+            "stillness not checked in {}: fewer than 20 one-second windows to estimate the \
+             white noise from",
+            unjudged.join(", ")
+        ));
+    }
     let mut id = IdentifiedNoise {
         gyro: gyro_sum,
         accel: accel_sum,
@@ -234,6 +269,8 @@ pub fn identify_noise(
         curves,
         runs: runs_out,
         stretches,
+        motion,
+        inconsistent,
         sample_interval_s: h_s,
         notes,
     };
@@ -504,4 +541,154 @@ impl Fitted {
             parameters: active + usize::from(bias_sigma.value > 0.0),
         }
     }
+}
+
+/// A run's stillness: its windows and the detector's verdict.
+struct FoundStill {
+    windows: Vec<crate::still::Window>,
+    stillness: crate::still::Stillness,
+    judged: bool,
+}
+
+/// First pass over a run: the windows of its candidate samples and the detector's verdict.
+fn find_still(
+    r: &mut RunStationary<'_>,
+    h_s: f64,
+    candidate: &dyn Fn(u16) -> bool,
+    cfg: &crate::still::StillnessConfig,
+) -> Result<FoundStill, NoiseIdError> {
+    let mut b = crate::still::WindowBuilder::new(h_s, cfg);
+    r.source.visit(&mut |samples, segs| {
+        for (s, g) in samples.iter().zip(segs) {
+            let rates = [
+                s.dtheta_rad.x / h_s,
+                s.dtheta_rad.y / h_s,
+                s.dtheta_rad.z / h_s,
+                s.dv_mps.x / h_s,
+                s.dv_mps.y / h_s,
+                s.dv_mps.z / h_s,
+            ];
+            b.push(s.t_s, rates, candidate(*g));
+        }
+        Ok(())
+    })?;
+    b.close();
+    let stillness = crate::still::detect(&r.name, &b.windows, cfg);
+    Ok(FoundStill {
+        judged: stillness.judged,
+        windows: b.windows,
+        stillness,
+    })
+}
+
+/// Walks the windows of a run sample by sample in the second pass.
+#[derive(Default)]
+struct WindowCursor {
+    sample: u64,
+    window: usize,
+}
+
+impl WindowCursor {
+    /// Whether the next sample lies in a still window (advances by one sample).
+    fn still(&mut self, f: &FoundStill) -> bool {
+        while self.window + 1 < f.windows.len()
+            && f.windows[self.window + 1].first_sample <= self.sample
+        {
+            self.window += 1;
+        }
+        self.sample += 1;
+        f.stillness.still.get(self.window).copied().unwrap_or(false)
+    }
+}
+
+/// A motion size in the channel's reading unit (deg/h or deg/s for a gyro, ug or mg for an
+/// accelerometer).
+fn motion_size_text(channel: &str, size: f64) -> String {
+    if channel.starts_with("gyro") {
+        let deg_h = size.to_degrees() * 3600.0;
+        if deg_h < 3600.0 {
+            format!("{deg_h:.1} deg/h")
+        } else {
+            format!("{:.2} deg/s", deg_h / 3600.0)
+        }
+    } else {
+        let ug = size / sins_nav::UG;
+        if ug < 1e4 {
+            format!("{ug:.0} ug")
+        } else {
+            format!("{:.1} mg", ug / 1e3)
+        }
+    }
+}
+
+/// How far outside the data's Allan-deviation interval the fitted model may pass before it
+/// is taken not to reproduce the data (a factor: 1.5 = 50 % beyond the interval's end). The
+/// residual chi-square is no guide: with hours of data the intervals are a percent wide at
+/// short averaging times, and a real sensor's flicker, which no term of the twin has, is
+/// already far outside them while the twin is still a fair model.
+pub const MODEL_CHECK_FACTOR: f64 = 1.5;
+
+/// A channel's fitted model against its own Allan deviation: `Some(reason)` when at some
+/// averaging time the model lies more than [`MODEL_CHECK_FACTOR`] outside the interval.
+fn model_check(c: &AllanCurve) -> Option<String> {
+    let worst = c
+        .tau_s
+        .iter()
+        .enumerate()
+        .filter_map(|(k, &tau)| {
+            let fit = *c.fit_axis.get(k)?;
+            let (lo, hi) = (*c.lo.get(k)?, *c.hi.get(k)?);
+            let factor = if fit < lo {
+                lo / fit
+            } else if fit > hi {
+                fit / hi
+            } else {
+                1.0
+            };
+            (factor.is_finite() && fit > 0.0).then_some((factor, tau, fit, c.adev[k]))
+        })
+        .fold(None, |best: Option<(f64, f64, f64, f64)>, x| match best {
+            Some(b) if b.0 >= x.0 => Some(b),
+            _ => Some(x),
+        })?;
+    (worst.0 > MODEL_CHECK_FACTOR).then(|| {
+        format!(
+            "the fitted {} model misses the data's Allan deviation by a factor {:.2} beyond its \
+             interval at tau = {:.3} s (model {:.3e}, data {:.3e}): a process the model lacks \
+             (motion, a bias change, a partial quantisation, a non-white noise) is in the data",
+            c.channel, worst.0, worst.1, worst.2, worst.3
+        )
+    })
+}
+
+/// Notes on each gyro's lattice, and the reasons a partial lattice makes the model suspect.
+fn lattice_findings(acc: &Accumulator, notes: &mut Vec<String>) -> Vec<String> {
+    let arcsec = std::f64::consts::PI / 648_000.0;
+    let mut out = Vec::new();
+    for (axis, l) in ["x", "y", "z"].iter().zip(&acc.lattice) {
+        let Some(c) = l.coverage() else { continue };
+        if c.holds() {
+            continue;
+        }
+        let on = 100.0 * c.fraction_on();
+        if on >= 50.0 {
+            let text = format!(
+                "gyro {axis}: {on:.1} % of the {} increments lie on a {:.4} arcsec lattice and \
+                 the rest off it: the output is quantised for only part of the data (corrected \
+                 in floating point from some point on?); the lattice is not used, and the \
+                 quantization is fitted from the Allan curve",
+                c.checked,
+                c.quantum / arcsec
+            );
+            notes.push(text.clone());
+            out.push(text);
+        } else if c.multiples < 2 && c.off == 0 {
+            notes.push(format!(
+                "gyro {axis}: every increment is the same multiple of {:.4} arcsec: a lattice by \
+                 chance (a smooth, noise-free output), not a quantum",
+                c.quantum / arcsec
+            ));
+        }
+    }
+    out
 }

@@ -1,5 +1,7 @@
-//! The twin's sensor-noise model identified from the data: the stationary stretches of real
-//! runs (segments labelled `alignment` / `stationary`) give the overlapping Allan variance of
+//! The twin's sensor-noise model identified from the data: the still stretches of real runs
+//! (segments labelled `alignment` / `stationary`, or, in a run without labels, the stretches
+//! the stillness detector [`still`] finds; motion inside a labelled stretch is found and left
+//! out) give the overlapping Allan variance of
 //! the three gyros and three accelerometers (IEEE Std 952 / 1554), pooled over stretches and
 //! runs, with chi-square intervals from the equivalent degrees of freedom (Howe, Allan and
 //! Barnes); a weighted least-squares fit then gives the terms the twin uses, each with its
@@ -33,6 +35,7 @@ pub mod quant;
 pub mod result;
 mod spectrum;
 pub mod steps;
+pub mod still;
 
 pub use config::NoiseIdConfig;
 pub use error::NoiseIdError;
@@ -40,3 +43,4 @@ pub use identify::{CORRELATION_CAP, RunStationary, identify_noise};
 pub use result::{
     AllanCurve, ChangeReport, Estimate, IdentifiedNoise, RunUsage, SensorNoise, StretchReport,
 };
+pub use still::{MotionReport, StillnessConfig};

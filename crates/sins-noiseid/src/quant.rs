@@ -79,11 +79,62 @@ pub fn ramp_quantization_avar(
 /// Finds the common quantum of a stream of increments: the floating-point greatest common
 /// divisor of their magnitudes (Euclid with a relative tolerance). Quantised data give the
 /// quantum; continuous data collapse to a tiny value and are reported as not quantised.
-#[derive(Clone, Copy, Debug, Default)]
+///
+/// The lattice is also checked over every sample offered to [`LatticeDetector::check`]: the
+/// GCD of the first [`LATTICE_PROBE`] non-zero increments is the candidate quantum, and every
+/// later increment is counted on or off its lattice. A lattice that holds for only part of the
+/// data (an output corrected in floating point from some point on), or only by chance (every
+/// increment the same multiple, as a noise-free unquantised ramp gives), is not a quantum:
+/// [`LatticeDetector::quantum`] is then `None` and [`LatticeDetector::coverage`] says why.
+#[derive(Clone, Debug, Default)]
 pub struct LatticeDetector {
     gcd: f64,
     max_abs: f64,
     broken: bool,
+    /// The first non-zero magnitudes, until the candidate is fixed.
+    probe: Vec<f64>,
+    /// The candidate quantum (GCD of the probe).
+    candidate: Option<f64>,
+    on: u64,
+    off: u64,
+    /// Distinct multiples of the candidate seen (up to 4).
+    multiples: Vec<u64>,
+}
+
+/// Non-zero increments whose GCD fixes the candidate quantum of the coverage check.
+pub const LATTICE_PROBE: usize = 4096;
+/// Largest fraction of increments off the lattice for it to count as the output's quantum.
+pub const LATTICE_MAX_OFF_FRACTION: f64 = 1e-4;
+
+/// How well the increments sit on a lattice.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LatticeCoverage {
+    /// The candidate quantum (input unit).
+    pub quantum: f64,
+    /// Increments checked.
+    pub checked: u64,
+    /// Of those, off the lattice.
+    pub off: u64,
+    /// Distinct multiples of the quantum seen (at most 4 counted).
+    pub multiples: usize,
+}
+
+impl LatticeCoverage {
+    /// Fraction of the increments on the lattice.
+    pub fn fraction_on(&self) -> f64 {
+        if self.checked == 0 {
+            0.0
+        } else {
+            1.0 - self.off as f64 / self.checked as f64
+        }
+    }
+
+    /// Whether the lattice holds for (nearly) every increment and is more than chance.
+    pub fn holds(&self) -> bool {
+        self.checked > 0
+            && (self.off as f64) <= LATTICE_MAX_OFF_FRACTION * self.checked as f64
+            && self.multiples >= 2
+    }
 }
 
 /// Relative tolerance of the floating-point GCD (quantised outputs are `n·q` rounded once).
@@ -92,9 +143,10 @@ const GCD_TOLERANCE: f64 = 1e-7;
 const MAX_QUANTA: f64 = 1000.0;
 
 impl LatticeDetector {
-    /// Feed one increment.
+    /// Feed one increment of the data the quantum is read from (also checked for coverage).
     #[inline]
     pub fn push(&mut self, x: f64) {
+        self.check(x);
         if self.broken {
             return;
         }
@@ -117,10 +169,78 @@ impl LatticeDetector {
         }
     }
 
+    /// Count one increment on or off the candidate lattice (any sample, still or moving).
+    #[inline]
+    pub fn check(&mut self, x: f64) {
+        let v = x.abs();
+        if !v.is_finite() {
+            self.off += 1;
+            return;
+        }
+        let Some(q) = self.candidate else {
+            if v > 0.0 {
+                self.probe.push(v);
+                if self.probe.len() >= LATTICE_PROBE {
+                    self.fix_candidate();
+                }
+            }
+            return;
+        };
+        self.count(v, q);
+    }
+
+    fn count(&mut self, v: f64, q: f64) {
+        let m = v / q;
+        let r = m.round();
+        if (m - r).abs() <= 1e-6 * r.max(1.0) {
+            self.on += 1;
+            let k = r as u64;
+            if self.multiples.len() < 4 && !self.multiples.contains(&k) {
+                self.multiples.push(k);
+            }
+        } else {
+            self.off += 1;
+        }
+    }
+
+    fn fix_candidate(&mut self) {
+        let q = self
+            .probe
+            .iter()
+            .fold(0.0, |g, &v| if g == 0.0 { v } else { fgcd(g, v) });
+        let probe = std::mem::take(&mut self.probe);
+        if q > 0.0 {
+            self.candidate = Some(q);
+            for v in probe {
+                self.count(v, q);
+            }
+        }
+    }
+
+    /// The coverage of the candidate lattice so far (`None` before any non-zero increment).
+    pub fn coverage(&self) -> Option<LatticeCoverage> {
+        let mut d = self.clone();
+        if d.candidate.is_none() {
+            d.fix_candidate();
+        }
+        d.candidate.map(|q| LatticeCoverage {
+            quantum: q,
+            checked: d.on + d.off,
+            off: d.off,
+            multiples: d.multiples.len(),
+        })
+    }
+
     /// The quantum (same unit as the input) if the increments lie on a lattice of at most
-    /// 1000 quanta per sample and at least one non-zero increment was seen.
+    /// 1000 quanta per sample, at least one non-zero increment was seen, and the coverage check
+    /// holds (see the type's doc).
     pub fn quantum(&self) -> Option<f64> {
-        (!self.broken && self.gcd > 0.0).then_some(self.gcd)
+        if self.broken || self.gcd <= 0.0 {
+            return None;
+        }
+        self.coverage()
+            .is_some_and(|c| c.holds())
+            .then_some(self.gcd)
     }
 }
 
@@ -172,5 +292,58 @@ mod tests {
             c.push(5e-8 + 1e-8 * (f64::from(k) * 0.7).sin());
         }
         assert_eq!(c.quantum(), None);
+    }
+
+    #[test]
+    fn a_lattice_that_holds_for_half_the_data_is_reported_and_not_used() {
+        let q = 4.848_136_811_095_36e-6; // 1 arcsec
+        let rate = 0.37 * q; // quanta per sample: a gyro at rest, 0 or 1 quantum each
+        let mut d = LatticeDetector::default();
+        let mut angle = 0.0f64;
+        let mut out = 0.0f64;
+        for k in 0..200_000 {
+            angle += rate + 0.05 * q * ((k as f64) * 0.913).sin();
+            if k < 100_000 {
+                // Pulse counting: whole quanta, remainder carried.
+                let n = ((angle - out) / q).floor();
+                out += n * q;
+                d.push(n * q);
+            } else {
+                // From here on corrected in floating point: off the lattice.
+                d.push(rate * 1.000_123);
+            }
+        }
+        let c = d.coverage().unwrap();
+        assert!(
+            (c.quantum / q - 1.0).abs() < 1e-9,
+            "candidate {}",
+            c.quantum / q
+        );
+        assert!((c.fraction_on() - 0.5).abs() < 0.01, "{}", c.fraction_on());
+        assert!(!c.holds());
+        assert_eq!(d.quantum(), None);
+        // The whole run on the lattice: the quantum, and a coverage of 1.
+        let mut e = LatticeDetector::default();
+        let (mut angle, mut out) = (0.0f64, 0.0f64);
+        for k in 0..200_000 {
+            angle += rate + 0.05 * q * ((k as f64) * 0.913).sin();
+            let n = ((angle - out) / q).floor();
+            out += n * q;
+            e.push(n * q);
+        }
+        assert!((e.quantum().unwrap() / q - 1.0).abs() < 1e-9);
+        assert_eq!(e.coverage().unwrap().off, 0);
+    }
+
+    #[test]
+    fn a_smooth_noise_free_output_is_no_lattice() {
+        // Every increment the same value (an unquantised, noise-free ramp): one multiple.
+        let mut d = LatticeDetector::default();
+        for _ in 0..10_000 {
+            d.push(3.3e-7);
+        }
+        let c = d.coverage().unwrap();
+        assert_eq!((c.off, c.multiples), (0, 1));
+        assert_eq!(d.quantum(), None);
     }
 }

@@ -164,6 +164,15 @@ pub struct IdentifiedNoise {
     pub runs: Vec<RunUsage>,
     /// The stretches used.
     pub stretches: Vec<StretchReport>,
+    /// Motion found inside the searched data (labelled still stretches, or whole unlabelled
+    /// runs) and left out.
+    #[serde(default)]
+    pub motion: Vec<crate::still::MotionReport>,
+    /// Why the identified model is inconsistent with the data it came from (empty when it is
+    /// consistent): a lattice that holds for only part of the data, a fit that does not
+    /// reproduce the Allan curve. A diagnosis with such a twin says its noise cannot be trusted.
+    #[serde(default)]
+    pub inconsistent: Vec<String>,
     /// Sample interval of the data (s).
     pub sample_interval_s: f64,
     /// Remarks (e.g. a term not identified).
@@ -171,6 +180,24 @@ pub struct IdentifiedNoise {
 }
 
 impl IdentifiedNoise {
+    /// One note per stretch of motion found and left out.
+    pub fn motion_notes(&self) -> Vec<String> {
+        self.motion
+            .iter()
+            .map(|m| {
+                format!(
+                    "noise identification: motion in {} at {:.1}-{:.1} s ({}), left out",
+                    m.run, m.start_s, m.end_s, m.channel
+                )
+            })
+            .collect()
+    }
+
+    /// Whether the identified model is consistent with the data it came from.
+    pub fn consistent(&self) -> bool {
+        self.inconsistent.is_empty()
+    }
+
     /// The twin's noise model (the rate random walk, which the twin lacks, is left out).
     pub fn to_noise_model(&self) -> NoiseModel {
         let corr = |s: &SensorNoise| {

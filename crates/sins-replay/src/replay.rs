@@ -67,6 +67,8 @@ struct Reconstructing {
     nav: Strapdown,
     recon: IncrementReconstructor,
     segments: VecDeque<u16>,
+    /// Each queued sample's own interval (s), with stamped intervals only.
+    intervals: VecDeque<f64>,
 }
 
 impl Phase {
@@ -78,6 +80,7 @@ impl Phase {
                 nav,
                 recon: IncrementReconstructor::new(recon),
                 segments: VecDeque::new(),
+                intervals: VecDeque::new(),
             })),
             _ => Phase::Navigating(nav),
         }
@@ -110,6 +113,10 @@ pub struct Replay {
     nav_samples: usize,
     nav_start_s: f64,
     recon: ReconstructConfig,
+    /// Integrate over each sample's recorded interval (see [`Replay::with_stamped_intervals`]).
+    stamped: bool,
+    /// The previous sample's `t_s`, with stamped intervals.
+    prev_t_s: Option<f64>,
 }
 
 impl Replay {
@@ -133,7 +140,19 @@ impl Replay {
             nav_samples: 0,
             nav_start_s: t0_s,
             recon: ReconstructConfig::default(),
+            stamped: false,
+            prev_t_s: None,
         }
+    }
+
+    /// With `stamped`, each sample is integrated over its own interval, the step of `t_s`
+    /// from the previous sample (the first sample, and the alignment, use the nominal
+    /// interval): for recorded time stamps that are trusted. The reconstruction then
+    /// interpolates the increments as if equally spaced and advances over the sum of the
+    /// stamped intervals. Without it (the default) every sample covers 1/rate.
+    pub fn with_stamped_intervals(mut self, stamped: bool) -> Self {
+        self.stamped = stamped;
+        self
     }
 
     /// Settings of the reconstruction used with `ConingOrder::Reconstruct` (default
@@ -149,7 +168,13 @@ impl Replay {
     /// Feed one raw sample with its segment index.
     #[inline]
     pub fn push(&mut self, s: &ImuSample, segment: u16) -> Result<(), ReplayError> {
-        let h = self.config.nav.sample_interval_s;
+        let mut h = self.config.nav.sample_interval_s;
+        if self.stamped {
+            if let Some(prev) = self.prev_t_s {
+                h = s.t_s - prev;
+            }
+            self.prev_t_s = Some(s.t_s);
+        }
         let temp = &s.temp_degc;
         if self.compensator.uses_temperature()
             && !(temp[0].is_finite() && temp[1].is_finite() && temp[2].is_finite())
@@ -169,7 +194,11 @@ impl Replay {
                 }
             }
             Phase::Navigating(nav) => {
-                nav.push(&inc);
+                if self.stamped {
+                    nav.push_timed(&inc, h);
+                } else {
+                    nav.push(&inc);
+                }
                 self.nav_samples += 1;
                 if self.nav_samples.is_multiple_of(self.samples_per_output)
                     && nav.pending_samples() == 0
@@ -183,6 +212,9 @@ impl Replay {
                 }
                 r.recon.push(&inc);
                 r.segments.push_back(segment);
+                if self.stamped {
+                    r.intervals.push_back(h);
+                }
                 self.navigate_reconstructed();
             }
         }
@@ -211,8 +243,15 @@ impl Replay {
         };
         let h = self.config.nav.sample_interval_s;
         while let Some(x) = r.recon.pop() {
+            let interval_s = if r.intervals.is_empty() {
+                h * x.intervals as f64
+            } else {
+                r.intervals
+                    .drain(..x.intervals.min(r.intervals.len()))
+                    .sum()
+            };
             r.nav
-                .advance_interval(&x.phi_rad, &x.dv_body_mps, h * x.intervals as f64);
+                .advance_interval(&x.phi_rad, &x.dv_body_mps, interval_s);
             #[allow(
                 clippy::expect_used,
                 reason = "a segment index is queued with every sample"

@@ -72,33 +72,57 @@ pub fn replay_dataset(
     let mut reader = DatasetReader::open(path)?;
     let info = reader.info().clone();
     require_temperatures(path, &info, sets)?;
+    let options = &ReplayOptions {
+        stamped_intervals: info.meta.recorded_stamps(),
+        ..*options
+    };
     let site = info.meta.site;
-    let mut multi = MultiReplay::new(
-        name,
-        sets,
-        site,
-        info.meta.sample_interval_s(),
-        info.segment_labels.clone(),
-        options,
-    )?;
-    let per_output =
-        ((options.output_interval_s / info.meta.sample_interval_s()).round() as usize).max(1);
+    let h = info.meta.sample_interval_s();
+    let per_output = ((options.output_interval_s / h).round() as usize).max(1);
     let mut refs: Option<Vec<RefPoint>> = info.columns.reference.then(Vec::new);
     let mut row = 0usize;
+    let mut multi: Option<MultiReplay> = None;
     progress.begin(&format!("replay {name}"), info.n_rows);
     while let Some(batch) = reader.next_batch()? {
-        multi.push_batch(&batch.samples, batch.segment_index.as_deref())?;
+        progress.advance(batch.samples.len() as u64);
+        // Samples whose interval starts before `start_s` are not replayed.
+        let skip = options.start_s.map_or(0, |t0| {
+            batch.samples.partition_point(|s| s.t_s - h < t0 - 1e-9 * h)
+        });
+        let Some(first) = batch.samples.get(skip) else {
+            continue;
+        };
+        let multi = match &mut multi {
+            Some(m) => m,
+            None => multi.insert(MultiReplay::new(
+                name,
+                sets,
+                site,
+                h,
+                first.t_s - h,
+                info.segment_labels.clone(),
+                options,
+            )?),
+        };
+        let samples = &batch.samples[skip..];
+        multi.push_batch(samples, batch.segment_index.as_deref().map(|g| &g[skip..]))?;
         if let (Some(out), Some(rows)) = (&mut refs, &batch.reference) {
-            for (s, r) in batch.samples.iter().zip(rows) {
+            for (s, r) in samples.iter().zip(&rows[skip..]) {
                 row += 1;
                 if row.is_multiple_of(per_output) {
                     out.push(ref_point(s.t_s, r, &site));
                 }
             }
         }
-        progress.advance(batch.samples.len() as u64);
     }
     progress.end();
+    let multi = multi.ok_or_else(|| {
+        ReportError::Mismatch(format!(
+            "{}: no sample at or after the start time {:?} s",
+            path.display(),
+            options.start_s
+        ))
+    })?;
     let mut outcome = multi.finish()?;
     if let Some(refs) = refs {
         for track in &mut outcome.tracks {

@@ -22,15 +22,21 @@ pub struct Args {
     /// Skip the replica-uq step (a short study: 4 main samples, 2 per candidate).
     #[arg(long)]
     pub no_uq: bool,
+    /// Skip the import step (a 15 h recording as CSV text and as binary records, about 2.6 GB
+    /// of scratch files, against reading the project's own CSV).
+    #[arg(long)]
+    pub no_import: bool,
 }
 
-struct Measured {
-    wall_s: f64,
-    peak_rss_mb: f64,
-    stdout: String,
+/// A child's wall time, peak memory and output.
+pub(crate) struct Measured {
+    pub wall_s: f64,
+    pub peak_rss_mb: f64,
+    pub stdout: String,
 }
 
-fn child(args: &[&str]) -> Result<Measured> {
+/// Run `sinsbench ARGS --quiet --stats` and measure it.
+pub(crate) fn child(args: &[&str]) -> Result<Measured> {
     let exe = std::env::current_exe().context("cannot find the sinsbench executable")?;
     let out = Command::new(exe)
         .args(args)
@@ -113,6 +119,9 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
         m.peak_rss_mb
     )?;
     say_indented(&m.stdout)?;
+    if !args.no_import {
+        crate::bench_import::run(&args.dir, &exp, &nav_exp)?;
+    }
 
     // The navigation runs' own IMU (Table 1 constants + Table 3 temperature coefficients).
     let cal_exp = exp.join("paper_truth_calibration.toml");

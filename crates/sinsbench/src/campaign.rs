@@ -2,7 +2,7 @@
 //! (`local`) or one shard at a time anywhere that sees the directory (`shard`, e.g. as Slurm
 //! array tasks through scripts/slurm-campaign), then reduced to the same bytes.
 
-use crate::out::say;
+use crate::out::{note, say};
 use crate::{defaults, progress};
 use anyhow::Result;
 use sins_campaign::{BinaryId, Context, Opened, ShardRun, array_syntax};
@@ -29,8 +29,9 @@ enum Step {
         out: PathBuf,
     },
     /// Run shard I of a planned campaign and write DIR/shards/shard-IIIII.json (aside, then
-    /// renamed). A finished shard is not run again; a manifest that does not match this build
-    /// or the inputs as they are now is refused. In a Slurm array: --index $SLURM_ARRAY_TASK_ID;
+    /// renamed). A finished shard is not run again; a damaged result (empty, truncated, of the
+    /// wrong shape) is kept aside as shard-IIIII.json.damaged-N and the shard runs again; a
+    /// manifest that does not match this build or the inputs as they are now is refused. In a Slurm array: --index $SLURM_ARRAY_TASK_ID;
     /// in a Kubernetes indexed job: --index $JOB_COMPLETION_INDEX.
     Shard {
         /// The campaign directory.
@@ -46,8 +47,9 @@ enum Step {
         /// The campaign directory.
         dir: PathBuf,
     },
-    /// Say how far a campaign is. With --missing, print only the shards without a result in
-    /// Slurm array syntax (`0-3,7`; an empty line when none), for resubmission.
+    /// Say how far a campaign is. With --missing, print only the shards without a usable
+    /// result (none, or a damaged one) in Slurm array syntax (`0-3,7`; an empty line when
+    /// none), for resubmission.
     Status {
         /// The campaign directory.
         dir: PathBuf,
@@ -105,6 +107,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             let sins_campaign::Status {
                 manifest: m,
                 missing: todo,
+                damaged,
                 failed,
             } = sins_campaign::status(&dir)?;
             if missing {
@@ -125,6 +128,13 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                     format!(" ({})", array_syntax(&todo))
                 }
             )?;
+            for (s, why) in damaged {
+                say!(
+                    "shard {s} counts as missing: {} {why}; `sinsbench campaign shard {} --index {s}` keeps it aside and runs the shard again",
+                    sins_campaign::shard_path(&dir, s).display(),
+                    dir.display()
+                )?;
+            }
             for (s, note) in failed {
                 say!("shard {s} failed last time: {note}")?;
             }
@@ -138,8 +148,13 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             let ctx = context()?;
             plan(&config, &out, &ctx)?;
             let opened = sins_campaign::open(&out, &ctx)?;
-            let left: usize = opened
-                .missing()
+            let todo = opened.missing()?;
+            for s in &todo {
+                if let Some(aside) = opened.set_aside_damaged(*s)? {
+                    note!("note: {aside}");
+                }
+            }
+            let left: usize = todo
                 .iter()
                 .map(|s| opened.manifest.shard_jobs(*s).len())
                 .sum();

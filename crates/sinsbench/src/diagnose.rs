@@ -69,7 +69,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     };
     let (parent, name) = crate::outputs::output_dir(&args.out, "diagnose")?;
     let set = sins_config::load_params(&args.params)?;
-    let (noise, noise_notes) = match &args.noise_from {
+    let (noise, noise_notes, untrusted) = match &args.noise_from {
         Some(path) => {
             let table = sins_config::load_noise(path)?;
             let what = if table.from_noise_file {
@@ -91,6 +91,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                     ..NoiseSpec::from(&table.noise)
                 },
                 vec![format!("twin noise: the {what} {}{walks}", path.display())],
+                table.inconsistent.clone(),
             )
         }
         None => {
@@ -107,7 +108,8 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                 "twin noise: identified from the data's stationary segments (sinsbench noise): {line}"
             )];
             notes.extend(id.change_notes());
-            (id.to_noise_spec(), notes)
+            notes.extend(id.motion_notes());
+            (id.to_noise_spec(), notes, id.inconsistent.clone())
         }
     };
     for n in &noise_notes {
@@ -139,8 +141,12 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     })?;
     let mut outcome = outcome;
     outcome.diagnosis.notes.splice(0..0, noise_notes);
+    outcome.diagnosis.noise_untrusted = untrusted;
     let dir = write_diagnosis(&parent, &name, &outcome)?;
     say!("verdict: {:?}", outcome.diagnosis.verdict)?;
+    for r in &outcome.diagnosis.noise_untrusted {
+        say!("  the twin's noise cannot be trusted: {r}")?;
+    }
     for c in outcome.diagnosis.candidates.iter().take(3) {
         say!(
             "  {:<32} dchi2 {:>10.1}  dBIC {:>10.1}  {}",

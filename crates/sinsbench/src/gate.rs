@@ -2,10 +2,12 @@
 
 use crate::out::say;
 use crate::report;
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use sins_config::{load_report_config, load_thresholds, read_summary};
-use sins_harness::gate::junit_xml;
-use std::path::PathBuf;
+use sins_harness::gate::{Check, is_gate_junit, junit_xml};
+use std::io::Read;
+use std::os::unix::fs::MetadataExt;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `gate`.
 #[derive(clap::Args)]
@@ -21,7 +23,9 @@ pub struct Args {
     /// improvement (%), for every experiment or per experiment. See experiments/harness/gate_paper.toml.
     #[arg(long)]
     pub thresholds: Option<PathBuf>,
-    /// Also write the checks as JUnit XML (one test case per check) for CI systems.
+    /// Also write the checks as JUnit XML (one test case per check) for CI systems: written
+    /// aside and renamed into place after the PASS/FAIL lines; never over the summary, the
+    /// thresholds or any file that is not a JUnit report the gate wrote (exit 2).
     #[arg(long)]
     pub junit: Option<PathBuf>,
     /// Directory of the report when --config runs one.
@@ -29,49 +33,144 @@ pub struct Args {
     pub reports_dir: PathBuf,
 }
 
-/// The gate found thresholds exceeded (exit code 1; errors exit with 2).
+/// The gate found thresholds exceeded (exit code 1; errors exit with 2). A JUnit report that
+/// could not be written is said here too: the verdict keeps its exit code.
 #[derive(Debug, thiserror::Error)]
-#[error("gate failed: {failed} of {total} checks exceeded their thresholds")]
+#[error(
+    "gate failed: {failed} of {total} checks exceeded their thresholds{}",
+    junit_note(.junit_error)
+)]
 pub struct GateFailed {
     /// Failed checks.
     pub failed: usize,
     /// All checks.
     pub total: usize,
+    /// Why the JUnit report was not written, when it was asked for and could not be.
+    pub junit_error: Option<String>,
+}
+
+fn junit_note(e: &Option<String>) -> String {
+    e.as_ref()
+        .map_or_else(String::new, |e| format!("; and {e}"))
 }
 
 /// Run `gate`: the thresholds are read and validated first, so that a bad thresholds file is
-/// refused before `--config` runs a whole report.
+/// refused before `--config` runs a whole report; so is a `--junit` path that is not the gate's
+/// to write ([`check_junit_target`]). The PASS/FAIL lines are printed before the JUnit report is
+/// written, and a report that cannot be written leaves a failed gate at exit 1 (a passed one
+/// exits 2: its report is missing).
 pub fn run(args: Args, quiet: bool) -> Result<()> {
     let (thresholds_path, report) = thresholds_and_report(&args)?;
     let thresholds = load_thresholds(&thresholds_path)?;
+    let mut inputs = vec![("thresholds", thresholds_path.clone())];
+    inputs.extend(args.config.clone().map(|c| ("report configuration", c)));
+    inputs.extend(args.summary.clone().map(|s| ("summary", s)));
+    if let Some(j) = &args.junit {
+        check_junit_target(j, &inputs)?;
+    }
     let summary_path = match (report, &args.summary) {
-        (Some(r), _) => report::produce(&r, quiet)?,
+        (Some(r), _) => {
+            let produced = report::produce(&r, quiet)?;
+            inputs.push(("summary", produced.clone()));
+            if let Some(j) = &args.junit {
+                check_junit_target(j, &inputs)?;
+            }
+            produced
+        }
         (None, Some(s)) => s.clone(),
         (None, None) => bail!("give --summary FILE --thresholds FILE, or --config FILE"),
     };
     let summary = read_summary(&summary_path)?;
-    let checks = thresholds.check(&summary, &summary_path).with_context(|| {
-        format!(
-            "nothing to check with thresholds {}",
-            thresholds_path.display()
-        )
-    })?;
-    if let Some(j) = &args.junit {
-        let xml = junit_xml(&format!("sinsbench gate {}", summary.name), &checks);
-        std::fs::write(j, xml).with_context(|| format!("cannot write {}", j.display()))?;
-    }
+    let checks = thresholds
+        .check(&summary, &summary_path)
+        .with_context(|| format!("gate thresholds {}", thresholds_path.display()))?;
     for c in &checks {
         say!("{} {}", if c.passed { "PASS" } else { "FAIL" }, c.message)?;
     }
+    let junit_error = args
+        .junit
+        .as_ref()
+        .and_then(|j| write_junit(j, &summary.name, &checks).err());
     let failed = checks.iter().filter(|c| !c.passed).count();
     if failed > 0 {
         return Err(GateFailed {
             failed,
             total: checks.len(),
+            junit_error: junit_error.map(|e| e.to_string()),
         }
         .into());
     }
+    if let Some(e) = junit_error {
+        let n = checks.len();
+        return Err(e.context(format!(
+            "gate passed ({n} of {n} checks), but the JUnit report asked for is missing"
+        )));
+    }
     say!("gate passed: {} checks", checks.len())
+}
+
+/// Writes the JUnit report aside in its directory and renames it into place.
+fn write_junit(path: &Path, suite: &str, checks: &[Check]) -> Result<()> {
+    crate::outputs::sweep(path.parent().unwrap_or(Path::new(".")));
+    let xml = junit_xml(&format!("sinsbench gate {suite}"), checks);
+    sins_config::write_file_atomically(path, xml.as_bytes()).map_err(|e| {
+        anyhow!(
+            "the JUnit report {} was not written: {e}; check that its directory exists and is \
+             writable, or give another --junit path",
+            path.display()
+        )
+    })
+}
+
+/// Refuses a `--junit` path that the gate must not replace: one of its `inputs` (the same file,
+/// by identity: device and inode, so that a symbolic or hard link, `..` or another spelling is
+/// caught), a directory, or an existing file that is not a JUnit report the gate wrote (which
+/// begins with `<testsuites name="sinsbench gate">`, see `sins_harness::gate::JUNIT_HEAD`).
+fn check_junit_target(junit: &Path, inputs: &[(&str, PathBuf)]) -> Result<()> {
+    let meta = match std::fs::metadata(junit) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => bail!(
+            "--junit {}: cannot be examined ({e}); it is left untouched: give another path",
+            junit.display()
+        ),
+    };
+    for (what, input) in inputs {
+        if std::fs::metadata(input).is_ok_and(|m| (m.dev(), m.ino()) == (meta.dev(), meta.ino())) {
+            let real = std::fs::canonicalize(input).unwrap_or_else(|_| input.clone());
+            bail!(
+                "--junit {} is {}, the {what} of this gate (the same file): the gate never \
+                 writes over its input; give another path for the JUnit report",
+                junit.display(),
+                real.display()
+            );
+        }
+    }
+    crate::outputs::check_file_target(junit, "JUnit report")?;
+    if !is_gate_junit(&file_head(junit, 128)?) {
+        bail!(
+            "--junit {}: exists and is not a JUnit report of `sinsbench gate` (those begin with \
+             <testsuites name=\"sinsbench gate\">); it is left untouched: give another path, \
+             or remove the file if it may go",
+            junit.display()
+        );
+    }
+    Ok(())
+}
+
+/// The first `n` bytes of the file at `path` (fewer when it is shorter).
+fn file_head(path: &Path, n: usize) -> Result<Vec<u8>> {
+    let file = std::fs::File::open(path).with_context(|| {
+        format!(
+            "--junit {}: cannot be read to see whether the gate wrote it; it is left untouched",
+            path.display()
+        )
+    })?;
+    let mut head = Vec::with_capacity(n);
+    file.take(n as u64)
+        .read_to_end(&mut head)
+        .with_context(|| format!("--junit {}: cannot be read", path.display()))?;
+    Ok(head)
 }
 
 /// The thresholds file to use and, with `--config`, the report to run first.

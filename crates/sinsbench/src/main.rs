@@ -5,6 +5,7 @@
 
 mod argcheck;
 mod bench;
+mod bench_import;
 mod blind;
 mod calibrate;
 mod calreport;
@@ -12,6 +13,7 @@ mod campaign;
 mod defaults;
 mod diagnose;
 mod gate;
+mod import;
 mod navigate;
 mod noise;
 mod out;
@@ -53,6 +55,14 @@ enum Command {
     /// 1-3 of Table 4 with 1 h stationary between, chamber temperature dropping) into
     /// out/paper_navigation/.
     Simulate(simulate::Args),
+    /// Read a real recording as it comes (delimited text, fixed binary records or the PSINS
+    /// .imu format; gzip or not) into a dataset, as a description file (TOML) says: columns,
+    /// units (deg/s, g, counts with a scale, ...), rates or increments, axes (e.g. forward-
+    /// right-down), time stamps or a counter, site, labels. Jittered stamps are accepted and
+    /// their statistics printed; dropped samples are bridged up to time.max_bridge_samples
+    /// (default 5) and listed; a longer gap is refused or splits the run. The dataset records
+    /// the source's SHA-256, the description and every conversion. See docs/import.md.
+    Import(import::Args),
     /// Replay a dataset: self-alignment (20 min) or a known start, then pure inertial
     /// navigation with a parameter set applied; prints the horizontal error.
     Navigate(navigate::Args),
@@ -120,6 +130,12 @@ enum Command {
     /// scripts/slurm-campaign, Kubernetes indexed jobs), then `reduce`; or `local` for all of it
     /// on this machine. The summary is byte-identical however the shards were run.
     Campaign(campaign::Args),
+    /// Read and validate every row of a dataset (the import benchmark's baseline).
+    #[command(hide = true)]
+    ReadDataset {
+        /// The dataset.
+        file: std::path::PathBuf,
+    },
 }
 
 fn main() -> std::process::ExitCode {
@@ -131,6 +147,7 @@ fn main() -> std::process::ExitCode {
     }
     let result = match cli.command {
         Command::Simulate(a) => simulate::run(a, cli.quiet),
+        Command::Import(a) => import::run(a, cli.quiet),
         Command::Navigate(a) => navigate::run(a, cli.quiet),
         Command::Calibrate(a) => calibrate::run(a, cli.quiet),
         Command::CalibrationReport(a) => calreport::run(a, cli.quiet),
@@ -142,6 +159,7 @@ fn main() -> std::process::ExitCode {
         Command::Bench(a) => bench::run(a, cli.quiet),
         Command::ReplicaUq(a) => uq::run(a, cli.quiet),
         Command::Campaign(a) => campaign::run(a, cli.quiet),
+        Command::ReadDataset { file } => bench_import::read_dataset(&file),
     };
     if cli.stats {
         stats::print(started.elapsed());

@@ -26,6 +26,10 @@ pub struct Args {
     /// `truth` = the initial attitude recorded in the dataset's metadata (simulated data).
     #[arg(long, value_enum, default_value_t = StartMode::Align)]
     pub start: StartMode,
+    /// Replay from this time (s, the dataset's own `t_s`): samples before it are not used, and
+    /// the self-alignment starts here (e.g. on a still stretch that `noise` found).
+    #[arg(long, allow_negative_numbers = true)]
+    pub start_s: Option<f64>,
     /// Self-alignment time (s, positive).
     #[arg(long, default_value_t = 1200.0, allow_negative_numbers = true, value_parser = argcheck::positive_f64)]
     pub align_s: f64,
@@ -123,6 +127,9 @@ pub fn replay(args: &Args, quiet: bool) -> Result<(DatasetInfo, Vec<ErrorPoint>,
         );
     }
     let info = DatasetReader::open(&args.dataset)?.info().clone();
+    if matches!(args.start, StartMode::Align) {
+        check_alignment_still(args)?;
+    }
     let params = match &args.params {
         Some(p) => sins_config::load_params(p)?.params,
         None => ImuErrorParams::ideal(ParamModel::States30),
@@ -150,6 +157,8 @@ pub fn replay(args: &Args, quiet: bool) -> Result<(DatasetInfo, Vec<ErrorPoint>,
             ..Default::default()
         },
         output_interval_s: 1.0,
+        stamped_intervals: info.meta.recorded_stamps(),
+        start_s: args.start_s,
     };
     let set = NamedParams {
         key: args
@@ -170,6 +179,122 @@ pub fn replay(args: &Args, quiet: bool) -> Result<(DatasetInfo, Vec<ErrorPoint>,
         .next()
         .context("internal: the replay returned no track")?;
     Ok((info, track.points, track.summary))
+}
+
+/// Gross motion that refuses a self-alignment: the IMU turned through more than this angle
+/// (rad; 1 deg: a vehicle turning, a hand moving the IMU)...
+const ALIGN_REFUSE_ANGLE_RAD: f64 = std::f64::consts::PI / 180.0;
+/// ...or its velocity changed by more than this (m/s; a vehicle driving off). Rocking below
+/// both (a parked vehicle in the wind, an idling engine: back and forth) is reported and the
+/// alignment goes on: it averages over the window.
+const ALIGN_REFUSE_VELOCITY_MPS: f64 = 0.5;
+
+/// Check the alignment window for motion with the stillness detector (at
+/// [`sins_gap::still::ALIGNMENT_FALSE_ALARMS_PER_HOUR`]): gross motion refuses the alignment,
+/// naming it and the still stretches long enough for it; smaller motion is reported.
+fn check_alignment_still(args: &Args) -> Result<()> {
+    let cfg = sins_noiseid::StillnessConfig {
+        false_alarms_per_hour: sins_gap::still::ALIGNMENT_FALSE_ALARMS_PER_HOUR,
+        ..Default::default()
+    };
+    // Without --start-s only the alignment window (and a minute more) is read.
+    let span = args.start_s.is_none().then_some(args.align_s + 60.0);
+    let found = sins_gap::still::dataset_stillness(&args.dataset, &cfg, span)?;
+    let t_first = found.windows.first().map_or(0.0, |w| w.start_s);
+    let from = args.start_s.unwrap_or(t_first).max(t_first);
+    let to = from + args.align_s;
+    let inside: Vec<&sins_noiseid::MotionReport> = found
+        .stillness
+        .motion
+        .iter()
+        .filter(|m| m.end_s > from && m.start_s < to)
+        .collect();
+    let gross = |m: &&sins_noiseid::MotionReport| {
+        m.excursion
+            > if m.channel.starts_with("gyro") {
+                ALIGN_REFUSE_ANGLE_RAD
+            } else {
+                ALIGN_REFUSE_VELOCITY_MPS
+            }
+    };
+    let size = |m: &sins_noiseid::MotionReport| {
+        if m.channel.starts_with("gyro") {
+            format!(
+                "rate {:.1} deg/h, turned through {:.3} deg, vibration {:.1} deg/h RMS",
+                m.size.to_degrees() * 3600.0,
+                m.excursion.to_degrees(),
+                m.vibration.to_degrees() * 3600.0
+            )
+        } else {
+            format!(
+                "{:.0} ug, velocity change {:.3} m/s, vibration {:.0} ug RMS",
+                m.size / sins_nav::UG,
+                m.excursion,
+                m.vibration / sins_nav::UG
+            )
+        }
+    };
+    let list = |ms: &[&sins_noiseid::MotionReport]| {
+        let shown: Vec<String> = ms
+            .iter()
+            .take(8)
+            .map(|m| {
+                format!(
+                    "{:.1}-{:.1} s ({} {})",
+                    m.start_s,
+                    m.end_s,
+                    m.channel,
+                    size(m)
+                )
+            })
+            .collect();
+        let more = ms.len().saturating_sub(8);
+        format!(
+            "{}{}",
+            shown.join(", "),
+            if more > 0 {
+                format!(" and {more} more")
+            } else {
+                String::new()
+            }
+        )
+    };
+    let refused: Vec<&sins_noiseid::MotionReport> = inside.iter().copied().filter(gross).collect();
+    if refused.is_empty() {
+        if !inside.is_empty() {
+            let moving_s: f64 = inside
+                .iter()
+                .map(|m| m.end_s.min(to) - m.start_s.max(from))
+                .sum();
+            crate::out::note!(
+                "note: the IMU rocks inside the alignment window {from:.1}-{to:.1} s: {} stretch(es) \
+                 of motion, {moving_s:.0} s in all, below the refusal limits (turned through 1 deg, a velocity change of 0.5 m/s): {}",
+                inside.len(),
+                list(&inside)
+            );
+        }
+        return Ok(());
+    }
+    let whole = sins_gap::still::dataset_stillness(&args.dataset, &cfg, None)?;
+    let still: Vec<String> = whole
+        .still_stretches(args.align_s)
+        .iter()
+        .map(|(a, b)| format!("{a:.1}-{b:.1} s"))
+        .collect();
+    anyhow::bail!(
+        "{}: the IMU moves inside the alignment window {from:.1}-{to:.1} s: {}; a self-alignment \
+         needs it still (refused when it turns through more than 1 deg or changes velocity by\
+         0.5 m/s). Still stretches of at least {} s: {} \
+         (give --start-s at one of them, a shorter --align-s, or --start truth)",
+        args.dataset.display(),
+        list(&refused),
+        args.align_s,
+        if still.is_empty() {
+            "none".to_string()
+        } else {
+            still.join(", ")
+        }
+    )
 }
 
 fn initial_attitude(info: &DatasetInfo) -> Result<Euler> {

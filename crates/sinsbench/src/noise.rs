@@ -37,6 +37,11 @@ pub struct Args {
     /// increments are used raw.
     #[arg(long, value_name = "FILE")]
     pub params: Option<PathBuf>,
+    /// Shortest still stretch used (s). Stretches between the motion of a rocking vehicle can
+    /// be short: 10-20 s still identify the white noise (the angle and velocity random walks
+    /// show at averaging times of a second or less), not a bias instability.
+    #[arg(long, default_value_t = 60.0, value_parser = crate::argcheck::positive_f64)]
+    pub min_stretch_s: f64,
 }
 
 /// A paper-unit figure with its 1-sigma (or upper bound).
@@ -180,6 +185,47 @@ fn markdown(id: &IdentifiedNoise, datasets: &[(String, PathBuf)], seconds: f64) 
             f(s.accel_residual_mps2, UG),
         ]);
     }
+    if !id.inconsistent.is_empty() {
+        md.push_str("\n## The identified model is inconsistent with its data\n\nDo not trust a twin built on it (`diagnose --noise-from` says so in its verdict):\n\n");
+        for r in &id.inconsistent {
+            md.push_str(&format!("- {r}\n"));
+        }
+    }
+    if !id.motion.is_empty() {
+        let mut moved = Table::new([
+            "run",
+            "from [s]",
+            "to [s]",
+            "channel",
+            "offset",
+            "vibration (RMS)",
+            "statistic / threshold",
+        ]);
+        for m in &id.motion {
+            let (size, vib) = if m.channel.starts_with("gyro") {
+                (
+                    format!("{:.2} deg/h", m.size / DEG_PER_H),
+                    format!("{:.2} deg/h", m.vibration / DEG_PER_H),
+                )
+            } else {
+                (
+                    format!("{:.0} ug", m.size / UG),
+                    format!("{:.0} ug", m.vibration / UG),
+                )
+            };
+            moved.row([
+                m.run.clone(),
+                format!("{:.1}", m.start_s),
+                format!("{:.1}", m.end_s),
+                m.channel.clone(),
+                size,
+                vib,
+                format!("{:.1}", m.excess),
+            ]);
+        }
+        md.push_str("\n## Motion found and left out\n\nThe stillness detector (1 s windows; within-window scatter and change of the window means against the sensor's own white noise, chi-square thresholds at 0.01 false alarms per hour of still data) found the IMU moving here; these windows and two either side are not used:\n\n");
+        md.push_str(&moved.render());
+    }
     md.push_str("\nStretch means against the Earth rate and gravity at the site (TRIAD attitude of the stretch itself; the observable part of the turn-on bias):\n\n");
     md.push_str(&means.render());
     if !id.notes.is_empty() {
@@ -295,12 +341,13 @@ fn write_outputs(
             id.runs.len(),
             id.stationary_s() / 3600.0
         );
-        let toml = sins_config::noise_to_toml(
+        let toml = sins_config::noise_to_toml_checked(
             &id.to_noise_model(),
             Some(&sigma_model(id)),
             id.to_noise_spec().unresolved_walk_per_sqrt_s,
             &description,
             &comments,
+            &id.inconsistent,
         );
         sins_report::write_bytes(&dir.join("noise.toml"), toml.as_bytes())?;
         let png = plot(id).map_err(|e| mismatch("Allan plot", &e))?;
@@ -339,7 +386,8 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     let (parent, name) = crate::outputs::output_dir(&args.out, "noise")?;
     if !quiet {
         note!(
-            "noise: Allan deviation of the stretches labelled {} in {} run(s)",
+            "noise: Allan deviation of the still stretches (labelled {}, or found by the \
+             stillness detector in runs without labels; motion inside them left out) of {} run(s)",
             args.labels.join(", "),
             datasets.len()
         );
@@ -349,14 +397,31 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         Some(p) => Some(sins_config::load_params(p)?),
         None => None,
     };
-    let id = sins_gap::identify_datasets(&datasets, &args.labels, set.as_ref().map(|s| &s.params))?;
+    let cfg = sins_noiseid::NoiseIdConfig {
+        labels: args.labels.clone(),
+        min_stretch_s: args.min_stretch_s,
+        ..Default::default()
+    };
+    let id = sins_gap::identify_datasets_with(&datasets, &cfg, set.as_ref().map(|s| &s.params))?;
     let seconds = started.elapsed().as_secs_f64();
     let dir = write_outputs(&parent, &name, &id, &datasets, seconds)?;
     for (term, v) in rows(&id.gyro, &id.accel) {
         say!("  {term:<52} {v}")?;
     }
+    for st in &id.stretches {
+        say!(
+            "  still stretch used: {} {:.1}-{:.1} s ({:.1} min)",
+            st.run,
+            st.start_s,
+            st.start_s + st.duration_s,
+            st.duration_s / 60.0
+        )?;
+    }
     for n in &id.notes {
         say!("  note: {n}")?;
+    }
+    for r in &id.inconsistent {
+        say!("  WARNING: the identified model is inconsistent with its data: {r}")?;
     }
     say!(
         "wrote {} ({:.2} h stationary, {seconds:.1} s); use it with `diagnose --noise-from {}`",

@@ -467,6 +467,7 @@ mod tests {
             series: vec![],
             notes: vec![],
             events: Default::default(),
+            noise_untrusted: vec![],
         }
     }
 

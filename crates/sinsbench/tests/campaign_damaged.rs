@@ -1,0 +1,118 @@
+//! `sinsbench campaign` with damaged shard results: a truncated result counts as missing in
+//! `status` and `status --missing` (what the Slurm retry resubmits), `shard --index I` keeps it
+//! aside and runs the shard again, `local` does the same; a result whose per-seed arrays are cut
+//! short is named by `reduce` (exit 2), never a panic.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
+
+mod common;
+use common::{experiments, run, s};
+use std::path::Path;
+
+/// Runs sinsbench with `args`; returns exit code, stdout, stderr.
+fn sb(args: &[&str]) -> (Option<i32>, String, String) {
+    let o = run(args);
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+fn ok(args: &[&str]) -> (String, String) {
+    let (code, out, err) = sb(args);
+    assert_eq!(code, Some(0), "{args:?}: {err}");
+    (out, err)
+}
+
+fn refused(args: &[&str], needles: &[&str]) {
+    let (code, _, err) = sb(args);
+    assert_eq!(code, Some(2), "{args:?}: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "'{n}' missing from {args:?}: {err}");
+    }
+}
+
+fn shard_file(dir: &Path, s: usize) -> std::path::PathBuf {
+    dir.join(format!("shards/shard-{s:05}.json"))
+}
+
+#[test]
+fn damaged_results_are_missing_for_status_run_again_and_named_by_reduce() {
+    let tmp = tempfile::tempdir().unwrap();
+    // One seed and the noise-free run, cut to 25 min: 2 jobs, one per shard.
+    let cfg = tmp.path().join("c.toml");
+    std::fs::write(
+        &cfg,
+        format!(
+            "schema = 1\nname = \"damaged\"\nkind = \"calibration-mc\"\nseed = 3\njobs_per_shard = 1\n[calibration_mc]\nseeds = 1\nexperiment = \"{}\"\nmax_duration_s = 1500.0\n",
+            experiments().join("paper_calibration.toml").display()
+        ),
+    )
+    .unwrap();
+    let (cfg, dir) = (s(&cfg), tmp.path().join("run"));
+    let d = s(&dir);
+    ok(&["campaign", "plan", &cfg, "--out", &d]);
+    ok(&["campaign", "shard", &d, "--index", "0"]);
+    ok(&["campaign", "shard", &d, "--index", "1"]);
+    assert_eq!(ok(&["campaign", "status", &d, "--missing"]).0, "\n");
+
+    // Truncated (a copy cut off): missing for status, named by reduce, run again by shard.
+    let text = std::fs::read_to_string(shard_file(&dir, 1)).unwrap();
+    let cut = &text[..text.len() / 2];
+    std::fs::write(shard_file(&dir, 1), cut).unwrap();
+    assert_eq!(ok(&["campaign", "status", &d, "--missing"]).0, "1\n");
+    let (status, _) = ok(&["campaign", "status", &d]);
+    assert!(
+        status.contains("1 done, 1 missing (1)")
+            && status.contains("shard 1 counts as missing: ")
+            && status.contains("shard-00001.json is truncated or not a shard result"),
+        "{status}"
+    );
+    refused(
+        &["campaign", "reduce", &d],
+        &[
+            "shard-00001.json is truncated",
+            "are damaged and were not used",
+        ],
+    );
+    let (out, err) = ok(&["campaign", "shard", &d, "--index", "1"]);
+    assert!(out.starts_with("shard 1 (noise-free run) done in"), "{out}");
+    let kept = dir.join("shards/shard-00001.json.damaged-1");
+    assert!(
+        err.starts_with("note: ")
+            && err.contains("shard-00001.json is truncated")
+            && err.contains(&format!("kept as {}, shard 1 runs again", kept.display())),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&kept).unwrap(), cut);
+    assert_eq!(ok(&["campaign", "status", &d, "--missing"]).0, "\n");
+    ok(&["campaign", "reduce", &d]);
+    let summary = std::fs::read(dir.join("summary.json")).unwrap();
+
+    // Valid JSON whose per-seed arrays are cut short: named by reduce, no panic.
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(shard_file(&dir, 0)).unwrap()).unwrap();
+    let error = json["outcomes"][0]["outcome"]["error"]
+        .as_array_mut()
+        .unwrap();
+    error.truncate(30);
+    std::fs::write(shard_file(&dir, 0), json.to_string()).unwrap();
+    refused(
+        &["campaign", "reduce", &d],
+        &[
+            "shard-00000.json",
+            "shard-00000.json holds an unusable outcome of job 0: error has 30 values where a 42-state calibration has 33",
+        ],
+    );
+    assert_eq!(ok(&["campaign", "status", &d, "--missing"]).0, "0\n");
+    // `local` keeps it aside too, runs the shard again and reduces to the same bytes.
+    let (_, err) = ok(&["campaign", "local", &cfg, "--out", &d, "--threads", "1"]);
+    assert!(
+        err.contains("shard-00000.json holds an unusable outcome of job 0: error has 30 values")
+            && err.contains("shard-00000.json.damaged-1, shard 0 runs again"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(dir.join("summary.json")).unwrap(), summary);
+}
