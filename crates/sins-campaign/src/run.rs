@@ -272,16 +272,10 @@ impl Opened {
     /// the reduce) and no result.
     pub fn run_shard(&self, s: usize) -> Result<ShardRun, CampaignError> {
         self.check_index(s)?;
-        match self.state(s)? {
-            ShardState::Done(_) => return Ok(ShardRun::AlreadyDone),
-            ShardState::Damaged(message) => {
-                return Err(CampaignError::BadShard {
-                    path: shard_path(&self.dir, s),
-                    message,
-                });
-            }
-            ShardState::Missing => {}
+        if let ShardState::Done(_) = self.state(s)? {
+            return Ok(ShardRun::AlreadyDone);
         }
+        self.set_aside_damaged(s)?;
         let started = Instant::now();
         let range = self.manifest.shard_jobs(s);
         let mut outcomes = Vec::with_capacity(range.len());

@@ -64,7 +64,7 @@ fn outcome(seed: u64) -> McRunOutcome {
 
 /// The seed of each job: 5, 6, 7, then the noise-free run with the experiment's own seed.
 fn seeds() -> Vec<u64> {
-    let own = sins_config::load_experiment(&experiments().join("paper_calibration.toml"))
+    let own = sins_config::load_experiment(experiments().join("paper_calibration.toml"))
         .unwrap()
         .scenarios[0]
         .seed;

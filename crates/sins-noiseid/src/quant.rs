@@ -183,6 +183,9 @@ impl LatticeDetector {
                 if self.probe.len() >= LATTICE_PROBE {
                     self.fix_candidate();
                 }
+            } else {
+                // Zero is on every lattice.
+                self.count(0.0, 1.0);
             }
             return;
         };

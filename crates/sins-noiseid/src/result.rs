@@ -167,7 +167,7 @@ pub struct IdentifiedNoise {
     /// Motion found inside the searched data (labelled still stretches, or whole unlabelled
     /// runs) and left out.
     #[serde(default)]
-    pub motion: Vec<crate::still::MotionReport>,
+    pub motion: Vec<MotionReport>,
     /// Why the identified model is inconsistent with the data it came from (empty when it is
     /// consistent): a lattice that holds for only part of the data, a fit that does not
     /// reproduce the Allan curve. A diagnosis with such a twin says its noise cannot be trusted.
@@ -280,4 +280,31 @@ pub(crate) fn instability_of(sigma: Estimate) -> Estimate {
         sigma: sigma.sigma * GM_ALLAN_PEAK_RATIO,
         upper_95: sigma.upper_95.map(|u| u * GM_ALLAN_PEAK_RATIO),
     }
+}
+
+/// A stretch of motion.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MotionReport {
+    /// Run name.
+    pub run: String,
+    /// Start (s).
+    pub start_s: f64,
+    /// End (s).
+    pub end_s: f64,
+    /// The channel that moved most (`gyro_x` … `accel_z`).
+    pub channel: String,
+    /// How far that channel's rate left its still level: the largest offset of a window mean
+    /// from the median still mean (rad/s or m/s²): a rotation or an acceleration.
+    pub size: f64,
+    /// The largest RMS scatter of that channel within a window beyond its white noise (rad/s
+    /// or m/s²): vibration, a shock.
+    #[serde(default)]
+    pub vibration: f64,
+    /// The largest excursion the offsets add up to over the stretch: the angle (rad) or the
+    /// velocity (m/s) the IMU moved through. A rocking vehicle goes back and forth (small);
+    /// a turn or a drive-off does not.
+    #[serde(default)]
+    pub excursion: f64,
+    /// Largest detector statistic in the stretch over its threshold (≥ 1).
+    pub excess: f64,
 }

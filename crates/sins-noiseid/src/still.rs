@@ -35,6 +35,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::accumulate::{CHANNEL_NAMES, CHANNELS};
+pub use crate::result::MotionReport;
 
 /// Settings of the stillness detector.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -147,33 +148,6 @@ impl WindowBuilder {
             self.windows.push(w);
         }
     }
-}
-
-/// A stretch of motion.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct MotionReport {
-    /// Run name.
-    pub run: String,
-    /// Start (s).
-    pub start_s: f64,
-    /// End (s).
-    pub end_s: f64,
-    /// The channel that moved most (`gyro_x` … `accel_z`).
-    pub channel: String,
-    /// How far that channel's rate left its still level: the largest offset of a window mean
-    /// from the median still mean (rad/s or m/s²): a rotation or an acceleration.
-    pub size: f64,
-    /// The largest RMS scatter of that channel within a window beyond its white noise (rad/s
-    /// or m/s²): vibration, a shock.
-    #[serde(default)]
-    pub vibration: f64,
-    /// The largest excursion the offsets add up to over the stretch: the angle (rad) or the
-    /// velocity (m/s) the IMU moved through. A rocking vehicle goes back and forth (small);
-    /// a turn or a drive-off does not.
-    #[serde(default)]
-    pub excursion: f64,
-    /// Largest detector statistic in the stretch over its threshold (≥ 1).
-    pub excess: f64,
 }
 
 /// The detector's result for one run.

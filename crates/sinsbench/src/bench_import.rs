@@ -1,7 +1,7 @@
 //! The import step of `sinsbench bench`: a 15 h / 200 Hz recording imported from CSV text and
 //! from binary records, beside the project's own CSV reader on the same rows.
 
-use crate::bench::child;
+use crate::child::child;
 use crate::out::say;
 use anyhow::{Context, Result};
 use std::io::{BufWriter, Write};

@@ -94,6 +94,9 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                 .map(|j| opened.work.job_label(j))
                 .collect::<Vec<_>>()
                 .join(", ");
+            if let Some(aside) = opened.set_aside_damaged(index)? {
+                note!("note: {aside}");
+            }
             match opened.run_shard(index)? {
                 ShardRun::Ran(s) => say!("shard {index} ({label}) done in {s:.1} s"),
                 ShardRun::AlreadyDone => say!("shard {index} ({label}) was already done"),

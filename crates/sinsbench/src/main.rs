@@ -9,6 +9,7 @@ mod bench_import;
 mod blind;
 mod calibrate;
 mod calreport;
+mod child;
 mod campaign;
 mod defaults;
 mod diagnose;
