@@ -59,15 +59,7 @@ pub fn dataset_stillness(
             if s.t_s > until {
                 break 'read;
             }
-            let r = [
-                s.dtheta_rad.x / h,
-                s.dtheta_rad.y / h,
-                s.dtheta_rad.z / h,
-                s.dv_mps.x / h,
-                s.dv_mps.y / h,
-                s.dv_mps.z / h,
-            ];
-            b.push(s.t_s, r, true);
+            b.push(s.t_s, sins_noiseid::still::rates(s, h), true);
         }
         reader.recycle(batch);
     }

@@ -560,15 +560,7 @@ fn find_still(
     let mut b = crate::still::WindowBuilder::new(h_s, cfg);
     r.source.visit(&mut |samples, segs| {
         for (s, g) in samples.iter().zip(segs) {
-            let rates = [
-                s.dtheta_rad.x / h_s,
-                s.dtheta_rad.y / h_s,
-                s.dtheta_rad.z / h_s,
-                s.dv_mps.x / h_s,
-                s.dv_mps.y / h_s,
-                s.dv_mps.z / h_s,
-            ];
-            b.push(s.t_s, rates, candidate(*g));
+            b.push(s.t_s, crate::still::rates(s, h_s), candidate(*g));
         }
         Ok(())
     })?;

@@ -62,6 +62,18 @@ impl Default for StillnessConfig {
     }
 }
 
+/// A sample's six rates (gyro rad/s, accelerometer m/s²): its increments over `h_s`.
+pub fn rates(s: &sins_imu::ImuSample, h_s: f64) -> [f64; CHANNELS] {
+    [
+        s.dtheta_rad.x / h_s,
+        s.dtheta_rad.y / h_s,
+        s.dtheta_rad.z / h_s,
+        s.dv_mps.x / h_s,
+        s.dv_mps.y / h_s,
+        s.dv_mps.z / h_s,
+    ]
+}
+
 /// One window's per-channel sums (rates: rad/s, m/s²).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Window {

@@ -39,4 +39,3 @@ pub(crate) fn child(args: &[&str]) -> Result<Measured> {
         stdout: String::from_utf8_lossy(&out.stdout).to_string(),
     })
 }
-
