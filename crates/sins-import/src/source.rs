@@ -181,6 +181,21 @@ pub struct Source {
 }
 
 impl Source {
+    /// A source over `kind` with no record read yet.
+    fn base(file: &Path, kind: Kind, names: Vec<String>, line_offset: u64, byte: u64) -> Self {
+        Self {
+            file: file.to_path_buf(),
+            kind,
+            names,
+            line_offset,
+            lines_read: 0,
+            record: 0,
+            byte,
+            wanted: Vec::new(),
+            wanted_names: Vec::new(),
+        }
+    }
+
     /// Open delimited text (CSV, TSV, `;`, whitespace).
     pub fn delimited(file: &Path, d: &Delimited) -> Result<Self, ImportError> {
         let mut reader = open_maybe_gzip(file)?;
@@ -220,17 +235,8 @@ impl Source {
             }
             None => None,
         };
-        let mut src = Self {
-            file: file.to_path_buf(),
-            kind: Kind::Whitespace(Box::new(std::io::empty()), String::new()),
-            names: Vec::new(),
-            line_offset: lines,
-            lines_read: 0,
-            record: 0,
-            byte: 0,
-            wanted: Vec::new(),
-            wanted_names: Vec::new(),
-        };
+        let empty = Kind::Whitespace(Box::new(std::io::empty()), String::new());
+        let mut src = Self::base(file, empty, Vec::new(), lines, 0);
         match delim {
             Some(b) => {
                 let mut csv = csv::ReaderBuilder::new()
@@ -272,17 +278,13 @@ impl Source {
 
     /// Open whitespace-separated text that continues `reader` after `lines` lines (PSINS).
     pub fn whitespace_after(file: &Path, reader: Box<dyn BufRead + Send>, lines: u64) -> Self {
-        Self {
-            file: file.to_path_buf(),
-            kind: Kind::Whitespace(reader, String::new()),
-            names: Vec::new(),
-            line_offset: lines,
-            lines_read: 0,
-            record: 0,
-            byte: 0,
-            wanted: Vec::new(),
-            wanted_names: Vec::new(),
-        }
+        Self::base(
+            file,
+            Kind::Whitespace(reader, String::new()),
+            Vec::new(),
+            lines,
+            0,
+        )
     }
 
     /// Open fixed binary records.
@@ -325,23 +327,15 @@ impl Source {
                 ),
             });
         }
-        Ok(Self {
-            file: file.to_path_buf(),
-            kind: Kind::Binary {
-                reader,
-                types,
-                offsets,
-                buf: vec![0; size],
-                big: b.byte_order == ByteOrder::Big,
-            },
-            names: b.fields.iter().map(|f| f.name.clone()).collect(),
-            line_offset: 0,
-            lines_read: 0,
-            record: 0,
-            byte: b.header_bytes,
-            wanted: Vec::new(),
-            wanted_names: Vec::new(),
-        })
+        let kind = Kind::Binary {
+            reader,
+            types,
+            offsets,
+            buf: vec![0; size],
+            big: b.byte_order == ByteOrder::Big,
+        };
+        let names = b.fields.iter().map(|f| f.name.clone()).collect();
+        Ok(Self::base(file, kind, names, 0, b.header_bytes))
     }
 
     /// The field index of a column reference; `key` names it in errors.
