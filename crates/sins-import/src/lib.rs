@@ -241,19 +241,32 @@ pub fn import(
         Format::Psins => Some(psins::open(req.source, req.description)?.0),
         _ => None,
     };
-    let (sha, n_bytes) = sha256_file(req.source)?;
-    // Pass 1: check everything, count the stretches, find the gaps.
+    // Pass 1: check everything, count the stretches, find the gaps; the SHA-256 of the file is
+    // taken on a second thread meanwhile (it reads the file once more, mostly from the cache).
     let mut gaps = Vec::new();
     let mut bounds: Vec<(u64, f64, f64)> = Vec::new();
-    let (timeline, records) = plan.run(
-        req.source,
-        &mut |k, s| {
-            count(&mut bounds, k, s);
-            Ok(())
-        },
-        &mut |at, t_s, e| gaps.push(gap_event(at, t_s, e)),
-        &mut |n| progress((0, n)),
-    )?;
+    let (survey, hash) = std::thread::scope(|scope| {
+        let hash = scope.spawn(|| sha256_file(req.source));
+        let survey = plan.run(
+            req.source,
+            &mut |k, s| {
+                count(&mut bounds, k, s);
+                Ok(())
+            },
+            &mut |at, t_s, e| gaps.push(gap_event(at, t_s, e)),
+            &mut |n| progress((0, n)),
+        );
+        let hash = hash.join().unwrap_or_else(|_| {
+            Err(ImportError::Io {
+                file: req.source.to_path_buf(),
+                action: "reading for the SHA-256",
+                source: std::io::Error::other("the hashing thread failed"),
+            })
+        });
+        (survey, hash)
+    });
+    let (timeline, records) = survey?;
+    let (sha, n_bytes) = hash?;
     if bounds.iter().all(|b| b.0 == 0) {
         return Err(ImportError::Record {
             file: req.source.to_path_buf(),

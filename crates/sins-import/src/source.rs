@@ -243,7 +243,8 @@ impl Source {
                     .delimiter(b)
                     .has_headers(d.header)
                     .comment(comment)
-                    .trim(csv::Trim::All)
+                    // Fields are trimmed as they are parsed, and only the wanted ones:
+                    // `Trim::All` re-allocates every record.
                     .flexible(false)
                     .from_reader(reader);
                 if d.header {
@@ -582,13 +583,15 @@ fn parse_number(file: &Path, at: SourcePos, column: &str, text: &[u8]) -> Result
         text: String::from_utf8_lossy(text).into_owned(),
         reason,
     };
-    let s = std::str::from_utf8(text)
-        .map_err(|_| bad("is not UTF-8 text"))?
-        .trim();
+    let s = text.trim_ascii();
     if s.is_empty() {
         return Err(bad("is an empty field"));
     }
-    let x: f64 = s.parse().map_err(|_| bad("is not a number"))?;
+    let x: f64 = match fast_float2::parse(s) {
+        Ok(x) => x,
+        Err(_) if std::str::from_utf8(s).is_err() => return Err(bad("is not UTF-8 text")),
+        Err(_) => return Err(bad("is not a number")),
+    };
     if !x.is_finite() {
         return Err(bad("is not finite"));
     }

@@ -543,3 +543,44 @@ fn every_refusal_names_the_file_the_place_and_the_key() {
         "{msg}"
     );
 }
+
+#[test]
+fn padded_fields_read_as_unpadded_and_odd_bytes_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("r.csv");
+    let desc = format!("{RATES_DESC}{SITE}");
+    let plain = csv_rates(&stamps(40));
+    std::fs::write(&src, &plain).unwrap();
+    let (_, out) = run(dir.path(), &src, &desc).unwrap();
+    // Temperatures are NaN (none given), so compare time and increments.
+    let numbers = |out: &Path| -> Vec<[f64; 7]> {
+        let b = read_all(out).unwrap().1;
+        b.samples
+            .iter()
+            .map(|s| {
+                let (g, a) = (s.dtheta_rad, s.dv_mps);
+                [s.t_s, g.x, g.y, g.z, a.x, a.y, a.z]
+            })
+            .collect()
+    };
+    let a = numbers(&out);
+    // The same numbers with blanks and tabs around every field (the header's too).
+    let padded: String = plain
+        .lines()
+        .map(|l| format!(" {} \n", l.replace(',', " ,\t")))
+        .collect();
+    std::fs::write(&src, padded).unwrap();
+    let (_, out) = run(dir.path(), &src, &desc).unwrap();
+    assert_eq!(numbers(&out), a);
+    for (field, reason) in [
+        (&b"inf"[..], "is not finite"),
+        (b"0.0\xff5", "is not UTF-8 text"),
+    ] {
+        let mut bytes = plain.replacen("0.05,", "@,", 1).into_bytes();
+        let at = bytes.iter().position(|&b| b == b'@').unwrap();
+        bytes.splice(at..=at, field.iter().copied());
+        std::fs::write(&src, bytes).unwrap();
+        let msg = run(dir.path(), &src, &desc).unwrap_err().to_string();
+        assert!(msg.contains("line 7") && msg.contains(reason), "{msg}");
+    }
+}
