@@ -12,6 +12,7 @@
 //! about 50 bytes per second of stationary data, independent of the sample rate.
 
 use crate::allan::PooledTau;
+use crate::homogeneity::{self, Chunk};
 use crate::quant::LatticeDetector;
 use crate::result::ChangeReport;
 use crate::steps::{self, BiasChange};
@@ -50,6 +51,9 @@ pub(crate) struct Accumulator {
     pub stretches: Vec<StretchStats>,
     pub lattice: [LatticeDetector; 3],
     pub skipped: Vec<(usize, f64, u64)>,
+    /// The still stretches cut into hours, for the test of their agreement
+    /// ([`crate::homogeneity`]).
+    pub chunks: Vec<Chunk>,
     open: Option<Open>,
 }
 
@@ -82,8 +86,14 @@ impl Accumulator {
             stretches: Vec::new(),
             lattice: std::array::from_fn(|_| LatticeDetector::default()),
             skipped: Vec::new(),
+            chunks: Vec::new(),
             open: None,
         }
+    }
+
+    /// The interval of the bin points (s): the bin length in samples times the sample interval.
+    pub fn tau0_s(&self) -> f64 {
+        self.bin as f64 * self.h_s
     }
 
     fn short_octaves(&self) -> usize {
@@ -192,6 +202,9 @@ impl Accumulator {
             })
             .collect();
         let pieces: Vec<_> = changes.iter().map(|ch| steps::pieces(nb, ch)).collect();
+        self.chunks.extend(homogeneity::chunks(
+            o.run, o.start_s, tau0_s, &o.bins, &pieces,
+        ));
         let mut mb = 2usize;
         while 2 * mb < nb {
             let m = (mb * self.bin) as u64;

@@ -28,6 +28,9 @@ pub struct NoiseIdConfig {
     /// The stillness detector that finds still stretches in unlabelled runs and motion inside
     /// labelled ones.
     pub stillness: crate::still::StillnessConfig,
+    /// Leave out the start of every run when the still stretches show a turn-on transient
+    /// (default true; [`crate::identify_noise`]).
+    pub leave_out_turn_on: bool,
 }
 
 impl Default for NoiseIdConfig {
@@ -41,6 +44,7 @@ impl Default for NoiseIdConfig {
             fit_rate_random_walk: true,
             coverage: 0.682_689_492_137_085_9,
             stillness: crate::still::StillnessConfig::default(),
+            leave_out_turn_on: true,
         }
     }
 }

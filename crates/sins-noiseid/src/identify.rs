@@ -6,11 +6,13 @@ use crate::allan::{PooledTau, chi2_interval};
 use crate::config::NoiseIdConfig;
 use crate::error::NoiseIdError;
 use crate::fit::{FitData, Point, ProfiledFit, fit_profiled};
+use crate::homogeneity::{self, Heterogeneity};
 use crate::model::{TERMS, Term};
 use crate::quant::ramp_quantization_avar;
 use crate::result::{
     AllanCurve, Estimate, IdentifiedNoise, RunUsage, SensorNoise, StretchReport, instability_of,
 };
+use sins_diag::chi2_sf;
 use sins_diag::source::SampleSource;
 use sins_imu::{Compensator, ImuErrorParams};
 use sins_nav::alignment::coarse_align;
@@ -47,10 +49,62 @@ pub const CORRELATION_CAP: f64 = 4.0;
 /// sample is subtracted only for numerical conditioning). Each stretch's mean is instead
 /// compared with the Earth rate and gravity at the site in the stretch's own TRIAD attitude
 /// ([`StretchReport`]). Results are bit-identical for the same input.
+///
+/// When the still stretches disagree and the chunks that stand out are each the first of their
+/// run (a turn-on transient, [`crate::homogeneity`]), and [`NoiseIdConfig::leave_out_turn_on`]
+/// is set, the identification is made again with that time at the start of every run left out,
+/// and says so ([`IdentifiedNoise::turn_on_left_out_s`]).
 pub fn identify_noise(
     runs: &mut [RunStationary<'_>],
     cfg: &NoiseIdConfig,
 ) -> Result<IdentifiedNoise, NoiseIdError> {
+    let (first, mut turn_on_s) = identify_pass(runs, cfg, 0.0)?;
+    if !cfg.leave_out_turn_on {
+        return Ok(first);
+    }
+    let found: Vec<String> = first
+        .inconsistent
+        .iter()
+        .filter(|r| r.contains(homogeneity::TURN_ON_TEXT))
+        .cloned()
+        .collect();
+    // Leave out the chunk that stood out and test again: a transient longer than a chunk shows
+    // in the next one (at most MAX_TURN_ON_PASSES passes in all).
+    let mut best: Option<(IdentifiedNoise, f64)> = None;
+    for _ in 1..MAX_TURN_ON_PASSES {
+        let Some(skip_s) = turn_on_s else { break };
+        // Too little still data after it: keep what the last pass found.
+        let Ok((again, next)) = identify_pass(runs, cfg, skip_s) else {
+            break;
+        };
+        best = Some((again, skip_s));
+        turn_on_s = next.filter(|&n| n > skip_s);
+    }
+    let Some((mut id, skip_s)) = best else {
+        return Ok(first);
+    };
+    id.notes.insert(
+        0,
+        format!(
+            "turn-on transient: the first {skip_s:.0} s of every run are left out of the \
+             identification (a first pass over all the data found: {})",
+            found.join("; ")
+        ),
+    );
+    id.turn_on_left_out_s = skip_s;
+    Ok(id)
+}
+
+/// Passes over the data at most when a turn-on transient is left out step by step.
+const MAX_TURN_ON_PASSES: usize = 4;
+
+/// One identification, with the first `skip_s` of every run left out; also the time to leave
+/// out for a turn-on transient, when the still stretches show one.
+fn identify_pass(
+    runs: &mut [RunStationary<'_>],
+    cfg: &NoiseIdConfig,
+    skip_s: f64,
+) -> Result<(IdentifiedNoise, Option<f64>), NoiseIdError> {
     cfg.validate()?;
     let Some(first) = runs.first() else {
         return Err(NoiseIdError::NotEnoughData("no run given".into()));
@@ -70,6 +124,7 @@ pub fn identify_noise(
     let mut acc = Accumulator::new(h_s, cfg.min_stretch_s);
     let mut motion = Vec::new();
     let mut unjudged = Vec::new();
+    let mut first_t_s = Vec::new();
     for (i, r) in runs.iter_mut().enumerate() {
         // A run without labels is searched whole; a labelled run only in its still labels.
         let unlabelled = r.segment_labels.is_empty();
@@ -91,9 +146,11 @@ pub fn identify_noise(
             None => None,
         };
         let mut cursor = WindowCursor::default();
+        let mut t0 = None;
         r.source.visit(&mut |samples, segs| {
             for (s, g) in samples.iter().zip(segs) {
-                let stationary = candidate(*g) && cursor.still(&found);
+                let started = *t0.get_or_insert(s.t_s);
+                let stationary = candidate(*g) && cursor.still(&found) && s.t_s - started >= skip_s;
                 match &comp {
                     Some(c) if stationary => {
                         let mut s = *s;
@@ -106,6 +163,7 @@ pub fn identify_noise(
             Ok(())
         })?;
         acc.close();
+        first_t_s.push(t0.unwrap_or(0.0));
         motion.extend(found.stillness.motion);
     }
     if acc.stretches.is_empty() {
@@ -223,6 +281,19 @@ pub fn identify_noise(
         curves.push(ctx.curve(c, &set.axes[a], &set.triad, a, cfg.coverage));
     }
     inconsistent.extend(curves.iter().filter_map(model_check));
+    let mut turn_on_s: Option<f64> = None;
+    for h in homogeneity::test(&acc.chunks, acc.tau0_s()) {
+        let text = heterogeneity_text(&h, runs);
+        if h.finding {
+            inconsistent.push(text.clone());
+            if h.at_turn_on {
+                let (run, start_s, len_s, _) = h.worst;
+                let end_s = start_s + len_s - first_t_s.get(run).copied().unwrap_or(0.0);
+                turn_on_s = Some(turn_on_s.map_or(end_s, |t| t.max(end_s)).ceil());
+            }
+        }
+        notes.push(text);
+    }
     let runs_out = runs
         .iter()
         .enumerate()
@@ -272,10 +343,11 @@ pub fn identify_noise(
         motion,
         inconsistent,
         sample_interval_s: h_s,
+        turn_on_left_out_s: skip_s,
         notes,
     };
     id.notes.extend(id.change_notes());
-    Ok(id)
+    Ok((id, turn_on_s))
 }
 
 fn stretch_report(s: &StretchStats, run: &RunStationary<'_>, h_s: f64) -> StretchReport {
@@ -613,44 +685,54 @@ fn motion_size_text(channel: &str, size: f64) -> String {
     }
 }
 
-/// How far outside the data's Allan-deviation interval the fitted model may pass before it
-/// is taken not to reproduce the data (a factor: 1.5 = 50 % beyond the interval's end). The
-/// residual chi-square is no guide: with hours of data the intervals are a percent wide at
-/// short averaging times, and a real sensor's flicker, which no term of the twin has, is
-/// already far outside them while the twin is still a fair model.
+/// How far the fitted model's Allan deviation may lie from the data's (a factor, either way)
+/// before a significant difference counts against it. The residual chi-square of the fit is no
+/// guide: with hours of data the points are resolved to a percent at short averaging times, and
+/// a real sensor's flicker, which no term of the twin has, is significant there while the twin
+/// is still a fair model.
 pub const MODEL_CHECK_FACTOR: f64 = 1.5;
 
+/// Family-wise probability that the model check fails a correct model (Bonferroni over the
+/// six channels and each channel's averaging times).
+pub const MODEL_CHECK_FALSE_ALARM: f64 = 1e-3;
+
 /// A channel's fitted model against its own Allan deviation: `Some(reason)` when at some
-/// averaging time the model lies more than [`MODEL_CHECK_FACTOR`] outside the interval.
+/// averaging time the model and the data differ by more than [`MODEL_CHECK_FACTOR`] and
+/// significantly: `ν σ²_data / σ²_model` is chi-square with the point's `ν` degrees of freedom
+/// when the model is right, and its two-sided tail must be below the Bonferroni level. At the
+/// longest averaging times (a few degrees of freedom) a factor of 2-3 is chance: 1.5 beyond a
+/// one-sigma interval there flagged 7 of 100 quiet runs.
 fn model_check(c: &AllanCurve) -> Option<String> {
+    let level = MODEL_CHECK_FALSE_ALARM / (CHANNELS * c.tau_s.len().max(1)) as f64;
     let worst = c
         .tau_s
         .iter()
         .enumerate()
         .filter_map(|(k, &tau)| {
             let fit = *c.fit_axis.get(k)?;
-            let (lo, hi) = (*c.lo.get(k)?, *c.hi.get(k)?);
-            let factor = if fit < lo {
-                lo / fit
-            } else if fit > hi {
-                fit / hi
-            } else {
-                1.0
-            };
-            (factor.is_finite() && fit > 0.0).then_some((factor, tau, fit, c.adev[k]))
+            let (data, nu) = (*c.adev.get(k)?, *c.edf.get(k)?);
+            if !(fit > 0.0 && data > 0.0 && nu > 0.0) {
+                return None;
+            }
+            let x = nu * (data / fit).powi(2);
+            let upper = chi2_sf(x, nu);
+            let p = 2.0 * upper.min(1.0 - upper);
+            let factor = (fit / data).max(data / fit);
+            (p < level && factor > MODEL_CHECK_FACTOR).then_some((factor, tau, fit, data, p))
         })
-        .fold(None, |best: Option<(f64, f64, f64, f64)>, x| match best {
-            Some(b) if b.0 >= x.0 => Some(b),
-            _ => Some(x),
-        })?;
-    (worst.0 > MODEL_CHECK_FACTOR).then(|| {
-        format!(
-            "the fitted {} model misses the data's Allan deviation by a factor {:.2} beyond its \
-             interval at tau = {:.3} s (model {:.3e}, data {:.3e}): a process the model lacks \
-             (motion, a bias change, a partial quantisation, a non-white noise) is in the data",
-            c.channel, worst.0, worst.1, worst.2, worst.3
-        )
-    })
+        .fold(
+            None,
+            |best: Option<(f64, f64, f64, f64, f64)>, x| match best {
+                Some(b) if b.0 >= x.0 => Some(b),
+                _ => Some(x),
+            },
+        )?;
+    Some(format!(
+        "the fitted {} model misses the data's Allan deviation by a factor {:.2} at tau = {:.3} s \
+         (model {:.3e}, data {:.3e}; p = {:.1e}): a process the model lacks (motion, a bias \
+         change, a partial quantisation, a non-white noise) is in the data",
+        c.channel, worst.0, worst.1, worst.2, worst.3, worst.4
+    ))
 }
 
 /// Notes on each gyro's lattice, and the reasons a partial lattice makes the model suspect.
@@ -683,4 +765,40 @@ fn lattice_findings(acc: &Accumulator, notes: &mut Vec<String>) -> Vec<String> {
         }
     }
     out
+}
+
+/// A difference between the still stretches in words.
+fn heterogeneity_text(h: &Heterogeneity, runs: &[RunStationary<'_>]) -> String {
+    let (run, start_s, len_s, ratio) = h.worst;
+    let name = runs.get(run).map_or("?", |r| r.name.as_str());
+    let level = if h.level == "white" {
+        "white-noise"
+    } else {
+        "bias-instability"
+    };
+    let mut text = format!(
+        "{}: the still stretches disagree at the {level} level (tau = {:.3} s; Bartlett \
+         chi-square {:.1} on {} degrees of freedom, p = {:.1e}): {name} {:.0}-{:.0} s has {:.2} \
+         x the Allan deviation of the other {} chunks",
+        h.channel,
+        h.tau_s,
+        h.statistic,
+        h.chunks - 1,
+        h.p,
+        start_s,
+        start_s + len_s,
+        ratio,
+        h.chunks - 1
+    );
+    if h.at_turn_on {
+        text.push_str("; ");
+        text.push_str(homogeneity::TURN_ON_TEXT);
+    }
+    if !h.finding {
+        text.push_str(&format!(
+            " (within the factor {} the model tolerates)",
+            homogeneity::FACTOR
+        ));
+    }
+    text
 }

@@ -20,7 +20,7 @@
 //!
 //! Modules: [`allan`] (estimator, degrees of freedom, intervals), [`quant`] (quantization of a
 //! gyro at rest and the lattice detector), [`model`] (each term's Allan variance), `fit` (the
-//! weighted least squares), [`identify`] (the entry point), [`result`].
+//! weighted least squares), [`homogeneity`] (do the still stretches agree?), [`identify`] (the entry point), [`result`].
 
 #![warn(missing_docs)]
 
@@ -29,6 +29,7 @@ pub mod allan;
 pub mod config;
 pub mod error;
 mod fit;
+pub mod homogeneity;
 pub mod identify;
 pub mod model;
 pub mod quant;

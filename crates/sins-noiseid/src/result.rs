@@ -175,6 +175,10 @@ pub struct IdentifiedNoise {
     pub inconsistent: Vec<String>,
     /// Sample interval of the data (s).
     pub sample_interval_s: f64,
+    /// Time left out at the start of every run for a turn-on transient (s; 0 when none was
+    /// found or the leaving out is off).
+    #[serde(default)]
+    pub turn_on_left_out_s: f64,
     /// Remarks (e.g. a term not identified).
     pub notes: Vec<String>,
 }
