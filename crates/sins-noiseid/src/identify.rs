@@ -211,7 +211,12 @@ fn identify_pass(
         rrw: cfg.fit_rate_random_walk,
         h_s,
     };
-    let lattice: Option<[f64; 3]> = match acc.lattice.each_ref().map(|l| l.quantum()) {
+    // A partial lattice still gives the quantization's size (and is reported as inconsistent).
+    let lattice: Option<[f64; 3]> = match acc
+        .lattice
+        .each_ref()
+        .map(|l| l.quantum().or_else(|| l.partial_quantum()))
+    {
         [Some(a), Some(b), Some(c)] => Some([a, b, c]),
         _ => None,
     };
@@ -749,8 +754,9 @@ fn lattice_findings(acc: &Accumulator, notes: &mut Vec<String>) -> Vec<String> {
             let text = format!(
                 "gyro {axis}: {on:.1} % of the {} increments lie on a {:.4} arcsec lattice and \
                  the rest off it: the output is quantised for only part of the data (corrected \
-                 in floating point from some point on?); the lattice is not used, and the \
-                 quantization is fitted from the Allan curve",
+                 in floating point from some point on?); its quantum is kept for the \
+                 quantization term (a correction in floating point keeps the rounding the output \
+                 was given), and the model is marked inconsistent",
                 c.checked,
                 c.quantum / arcsec
             );

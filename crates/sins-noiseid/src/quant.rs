@@ -245,6 +245,16 @@ impl LatticeDetector {
             .is_some_and(|c| c.holds())
             .then_some(self.gcd)
     }
+
+    /// The candidate quantum (from the first non-zero increments) of a lattice that holds for at
+    /// least half of the increments but not all (an output corrected in floating point from
+    /// some point on still carries the rounding of its lattice); `None` when the lattice holds throughout ([`LatticeDetector::quantum`]) or
+    /// for less than half, or is chance (a single multiple).
+    pub fn partial_quantum(&self) -> Option<f64> {
+        self.coverage()
+            .filter(|c| !c.holds() && c.multiples >= 2 && c.fraction_on() >= 0.5)
+            .map(|c| c.quantum)
+    }
 }
 
 fn fgcd(a: f64, b: f64) -> f64 {
