@@ -15,7 +15,9 @@ pub fn render_uq_markdown(s: &UqSummary) -> String {
         "Monte Carlo of the replica over its declared assumptions and sensor-noise seeds: {} samples, seed {}. \
          S = the Monte Carlo median; D = the paper's real measurement; u_input = the standard deviation over the Monte Carlo; \
          u_num = the bootstrap error of the median and the replay's error-free floor (0.3 m); u_D = the standard deviation of \
-         the paper's three experiments in the same column. Verdict (ASME V&V 20): consistent when |E| <= 2 u_val.\n",
+         the paper's three experiments in the same column. Verdict (ASME V&V 20): the model-error interval delta_model = E ± 2 u_val; *validated* only when it contains 0 and \
+         2 u_val < |D| (the comparison could see a model error the size of the paper's figure), *not informative* when 2 u_val >= |D|, \
+         *model error* when |E| > 2 u_val.\n",
         s.samples, s.seed
     );
     o.push_str(&uq_table_for_report(s));

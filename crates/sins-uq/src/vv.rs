@@ -1,5 +1,11 @@
-//! The ASME V&V 20 comparison of one Table 5 cell: comparison error E = S - D and the validation
-//! uncertainty u_val = sqrt(u_num² + u_input² + u_D²).
+//! The ASME V&V 20 comparison of one Table 5 cell: comparison error E = S - D, the validation
+//! uncertainty u_val = sqrt(u_num² + u_input² + u_D²) and the model-error interval
+//! δ_model ∈ [E − k u_val, E + k u_val]. The word says what that interval supports: a cell is
+//! *validated* only when the interval contains zero and is informative against the quantity
+//! itself (k u_val < |D|: the comparison could have told a model error the size of the paper's
+//! figure); with k u_val ≥ |D| it is *not informative*, whatever E is (a 3.4 nmi cell with
+//! u_val = 30 nmi bounds the model error only to ±60 nmi); with |E| > k u_val it is a *model
+//! error* of that interval.
 
 use serde::{Deserialize, Serialize};
 
@@ -30,6 +36,22 @@ pub struct Validation {
     pub ratio: f64,
     /// True when |E| <= [`COVERAGE_K`] u_val.
     pub consistent: bool,
+    /// What the comparison supports (see the module's doc).
+    #[serde(default)]
+    pub word: VvWord,
+}
+
+/// The word of a V&V 20 comparison.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VvWord {
+    /// The model-error interval contains zero and is narrower than the quantity: k u_val < |D|.
+    Validated,
+    /// k u_val ≥ |D|: the comparison cannot bound a model error the size of the quantity.
+    #[default]
+    NotInformative,
+    /// |E| > k u_val: the interval excludes zero.
+    ModelError,
 }
 
 impl Validation {
@@ -42,6 +64,14 @@ impl Validation {
         } else {
             f64::INFINITY
         };
+        let consistent = ratio <= COVERAGE_K;
+        let word = if !consistent {
+            VvWord::ModelError
+        } else if COVERAGE_K * u_val < d.abs() {
+            VvWord::Validated
+        } else {
+            VvWord::NotInformative
+        };
         Self {
             s,
             d,
@@ -51,21 +81,37 @@ impl Validation {
             u_d,
             u_val,
             ratio,
-            consistent: ratio <= COVERAGE_K,
+            consistent,
+            word,
         }
     }
 
-    /// One line: consistent, or the model error interval E ± k u_val.
+    /// The model-error interval `[E − k u_val, E + k u_val]` (the cell's unit).
+    pub fn delta_model(&self) -> (f64, f64) {
+        (
+            self.e - COVERAGE_K * self.u_val,
+            self.e + COVERAGE_K * self.u_val,
+        )
+    }
+
+    /// One line: the word, the model-error interval and why.
     pub fn verdict(&self) -> String {
-        if self.consistent {
-            format!("consistent: |E| = {:.2} u_val", self.ratio)
-        } else {
-            format!(
-                "model error: |E| = {:.1} u_val, delta_model in [{:.3}, {:.3}]",
+        let (lo, hi) = self.delta_model();
+        match self.word {
+            VvWord::Validated => format!(
+                "validated: delta_model in [{lo:.3}, {hi:.3}] (|E| = {:.2} u_val; 2 u_val = {:.3} < |D| = {:.3})",
                 self.ratio,
-                self.e - COVERAGE_K * self.u_val,
-                self.e + COVERAGE_K * self.u_val
-            )
+                COVERAGE_K * self.u_val,
+                self.d.abs()
+            ),
+            VvWord::NotInformative => format!(
+                "not informative: u_val {:.3} against D {:.3} (delta_model in [{lo:.3}, {hi:.3}] bounds nothing the size of D)",
+                self.u_val, self.d
+            ),
+            VvWord::ModelError => format!(
+                "model error: delta_model in [{lo:.3}, {hi:.3}] (|E| = {:.1} u_val)",
+                self.ratio
+            ),
         }
     }
 }
@@ -80,7 +126,27 @@ mod tests {
         assert!((v.u_val - 1.5).abs() < 1e-12);
         assert!((v.e - 3.0).abs() < 1e-12);
         assert!((v.ratio - 2.0).abs() < 1e-12 && v.consistent);
-        let w = Validation::new(86.0, 3.38, 0.1, 1.0, 0.2);
-        assert!(!w.consistent && w.verdict().starts_with("model error"));
+        assert_eq!(v.delta_model(), (0.0, 6.0));
+    }
+
+    #[test]
+    fn the_word_needs_an_interval_narrower_than_the_quantity() {
+        // The replica's 30-state cell: |E| within 2 u_val, but u_val = 30 nmi on 3.38 nmi.
+        let wide = Validation::new(4.5, 3.38, 0.1, 30.0, 0.2);
+        assert!(wide.consistent);
+        assert_eq!(wide.word, VvWord::NotInformative);
+        assert!(wide.verdict().starts_with("not informative: u_val 30.0"));
+        // The same E with u_val = 0.8: 2 u_val = 1.6 < 3.38, the interval [-0.48, 2.72].
+        let tight = Validation::new(4.5, 3.38, 0.0, 0.8, 0.0);
+        assert_eq!(tight.word, VvWord::Validated);
+        let (lo, hi) = tight.delta_model();
+        assert!((lo + 0.48).abs() < 1e-12 && (hi - 2.72).abs() < 1e-12);
+        // E beyond 2 u_val: a model error whatever the width.
+        let off = Validation::new(86.0, 3.38, 0.1, 1.0, 0.2);
+        assert_eq!(off.word, VvWord::ModelError);
+        assert!(off.verdict().starts_with("model error: delta_model in [80."));
+        // Exactly at the edge (2 u_val = |D|) is not informative.
+        let edge = Validation::new(3.0, 2.0, 0.0, 1.0, 0.0);
+        assert_eq!(edge.word, VvWord::NotInformative);
     }
 }
