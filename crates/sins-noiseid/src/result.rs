@@ -246,6 +246,16 @@ impl IdentifiedNoise {
         }
     }
 
+    /// The note on a turn-on transient left out of the identification, for the notes of a
+    /// diagnosis that uses it (`None` when nothing was left out; [`crate::identify_noise`]
+    /// puts it first in [`IdentifiedNoise::notes`]).
+    pub fn turn_on_note(&self) -> Option<String> {
+        self.notes
+            .first()
+            .filter(|_| self.turn_on_left_out_s > 0.0)
+            .cloned()
+    }
+
     /// One line per change of a bias found inside a stationary stretch (paper units), for the
     /// notes of the identification and of a diagnosis that uses it.
     pub fn change_notes(&self) -> Vec<String> {

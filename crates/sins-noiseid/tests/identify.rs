@@ -101,20 +101,29 @@ fn three_runs(white: f64, gm: (f64, f64), step: Option<(usize, usize, f64)>) -> 
         .collect()
 }
 
-/// Identify the noise of `sources`, each a run of one stationary segment, with the defaults.
-fn identify_synth(sources: &mut [Synth]) -> sins_noiseid::IdentifiedNoise {
+/// Identify the noise of `sources` with the defaults: run `i` is named `run{i}` and labelled by
+/// `labels`.
+fn identify_all<S: SampleSource>(
+    sources: &mut [S],
+    labels: impl Fn(&S) -> Vec<String>,
+) -> sins_noiseid::IdentifiedNoise {
     let mut runs: Vec<RunStationary<'_>> = sources
         .iter_mut()
         .enumerate()
         .map(|(i, s)| RunStationary {
-            name: format!("r{i}"),
+            name: format!("run{i}"),
+            segment_labels: labels(s),
             source: s,
-            segment_labels: vec!["stationary".into()],
-            site: Geodetic::from_deg(28.2, 113.0, 60.0),
+            site: Geodetic::from_deg(28.22, 112.99, 60.0),
             compensation: None,
         })
         .collect();
     identify_noise(&mut runs, &NoiseIdConfig::default()).expect("identified")
+}
+
+/// Synthetic runs, each one stationary segment.
+fn identify_synth(sources: &mut [Synth]) -> sins_noiseid::IdentifiedNoise {
+    identify_all(sources, |_| vec!["stationary".into()])
 }
 
 #[test]
@@ -346,20 +355,9 @@ fn paper_noise_from_a_simulated_stationary_run() {
     );
 }
 
-/// Identify the noise of paper-noise stationary runs (labels from the simulator).
+/// Paper-noise stationary runs, labelled by the simulator.
 fn identify_runs(sources: &mut [SimSource]) -> sins_noiseid::IdentifiedNoise {
-    let mut runs: Vec<RunStationary<'_>> = sources
-        .iter_mut()
-        .enumerate()
-        .map(|(i, s)| RunStationary {
-            name: format!("run{i}"),
-            segment_labels: s.segment_labels(),
-            source: s,
-            site: Geodetic::from_deg(28.22, 112.99, 60.0),
-            compensation: None,
-        })
-        .collect();
-    identify_noise(&mut runs, &NoiseIdConfig::default()).expect("identified")
+    identify_all(sources, SimSource::segment_labels)
 }
 
 #[test]
@@ -381,11 +379,12 @@ fn a_turn_on_transient_is_named_and_left_out_and_the_clean_twin_is_consistent() 
         stationary_run_with(3.0, 12, vec![transient]),
     ]);
     eprintln!("{:?}\n{:?}\n{:?}", with.inconsistent, with.notes, with.gyro);
+    let note = with.turn_on_note().expect("a turn-on note");
     assert!(
-        with.notes[0].contains("gyro_z") && with.notes[0].contains("start of a run"),
-        "{:?}",
-        with.notes
+        note.contains("gyro_z") && note.contains("start of a run"),
+        "{note}"
     );
+    assert_eq!(clean.turn_on_note(), None);
     // The first hour of each run (the chunk that stood out) is left out, and what remains
     // gives the truth's bias instability back within 3 sigma.
     assert!(

@@ -1,11 +1,12 @@
-//! PNG plots of one experiment: the horizontal error and its north / east components for every
-//! parameter set against time with the segments shaded, and the accelerometer temperatures.
+//! PNG plots of one experiment: the horizontal error and its north / east components against
+//! time, one panel per parameter set (each on its own scale), with the segments shaded, and the
+//! accelerometer temperatures.
 
 use crate::ReportError;
 use crate::run::ResolvedSet;
 use sins_harness::pipeline::RunOutcome;
 use sins_harness::segments::SegmentStretch;
-use sins_plot::{Figure, Line, Panel, Rgb, Span, series_color, span_color};
+use sins_plot::{Figure, Line, Panel, Span, series_color, span_color};
 
 /// Colour of a segment label: one palette entry per distinct label, stationary stretches light.
 fn span_for(s: &SegmentStretch, labels: &mut Vec<String>) -> Span {
@@ -48,37 +49,37 @@ pub(crate) fn render(
     o: &RunOutcome,
     sets: &[ResolvedSet],
 ) -> Result<Vec<(&'static str, Vec<u8>)>, ReportError> {
-    let mut horizontal = Panel::new(format!("{}: horizontal position error", o.run))
-        .y_label("error [km]")
-        .y_include(0.0);
-    let mut components = Panel::new("north (solid) and east (dashed) position error")
-        .x_label("time [h]")
-        .y_label("error [km]");
+    // One panel per parameter set, each on its own scale: the 30-state track can end 160 km
+    // off while the 42-state one stays within 3 km, which one shared axis flattens to a line.
+    let mut errors = Figure::new().size_px(1600, 420).share_x(true);
+    let n = o.tracks.len();
     for (i, t) in o.tracks.iter().enumerate() {
         let label = sets
             .iter()
             .find(|s| s.key == t.set)
             .map_or(t.set.clone(), |s| format!("{}: {}", s.key, s.label));
-        let c: Rgb = series_color(i);
         let x: Vec<f64> = t.points.iter().map(|p| p.t_s / 3600.0).collect();
         let km = |f: &dyn Fn(&sins_harness::ErrorPoint) -> f64| -> Vec<f64> {
             t.points.iter().map(|p| f(p) / 1000.0).collect()
         };
-        horizontal =
-            horizontal.line(Line::new(label, x.clone(), km(&|p| p.horizontal_m())).color(c));
-        components = components
-            .line(Line::new(format!("{} north", t.set), x.clone(), km(&|p| p.north_m)).color(c))
-            .line(
-                Line::new(format!("{} east", t.set), x, km(&|p| p.east_m))
-                    .color(c)
-                    .dashed(),
-            );
+        let mut panel = Panel::new(format!(
+            "{}: position error with {label} (horizontal; north solid, east dashed)",
+            o.run
+        ))
+        .y_label("error [km]")
+        .y_include(0.0)
+        .line(Line::new("horizontal", x.clone(), km(&|p| p.horizontal_m())).color(series_color(i)))
+        .line(Line::new("north", x.clone(), km(&|p| p.north_m)).color(series_color(n + 2 * i)))
+        .line(
+            Line::new("east", x, km(&|p| p.east_m))
+                .color(series_color(n + 2 * i + 1))
+                .dashed(),
+        );
+        if i + 1 == n {
+            panel = panel.x_label("time [h]");
+        }
+        errors = errors.panel(panel);
     }
-    let mut errors = Figure::new()
-        .size_px(1600, 420)
-        .share_x(true)
-        .panel(horizontal)
-        .panel(components);
     for s in spans(o) {
         errors = errors.span(s);
     }

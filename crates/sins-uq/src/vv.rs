@@ -144,7 +144,10 @@ mod tests {
         // E beyond 2 u_val: a model error whatever the width.
         let off = Validation::new(86.0, 3.38, 0.1, 1.0, 0.2);
         assert_eq!(off.word, VvWord::ModelError);
-        assert!(off.verdict().starts_with("model error: delta_model in [80."));
+        assert!(
+            off.verdict()
+                .starts_with("model error: delta_model in [80.")
+        );
         // Exactly at the edge (2 u_val = |D|) is not informative.
         let edge = Validation::new(3.0, 2.0, 0.0, 1.0, 0.0);
         assert_eq!(edge.word, VvWord::NotInformative);

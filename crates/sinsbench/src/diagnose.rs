@@ -107,6 +107,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             let mut notes = vec![format!(
                 "twin noise: identified from the data's stationary segments (sinsbench noise): {line}"
             )];
+            notes.extend(id.turn_on_note());
             notes.extend(id.change_notes());
             notes.extend(id.motion_notes());
             (id.to_noise_spec(), notes, id.inconsistent.clone())

@@ -207,7 +207,9 @@ pub fn run_case(
     let (noise, noise_notes) = if cfg.identified_noise {
         let labels = sins_noiseid::NoiseIdConfig::default().labels;
         let id = crate::identify_datasets(&datasets, &labels, Some(&cal.params))?;
-        (id.to_noise_spec(), id.change_notes())
+        let mut notes: Vec<String> = id.turn_on_note().into_iter().collect();
+        notes.extend(id.change_notes());
+        (id.to_noise_spec(), notes)
     } else {
         (noise, Vec::new())
     };
