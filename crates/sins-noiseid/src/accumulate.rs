@@ -19,13 +19,7 @@ use crate::steps::{self, BiasChange};
 use sins_imu::ImuSample;
 use std::collections::BTreeMap;
 
-/// Channels: gyro x, y, z then accelerometer x, y, z.
-pub const CHANNELS: usize = 6;
-
-/// The channels' names, in that order.
-pub const CHANNEL_NAMES: [&str; CHANNELS] = [
-    "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z",
-];
+pub use crate::channels::{CHANNEL_NAMES, CHANNELS};
 
 /// A stationary stretch that was used.
 #[derive(Clone, Debug, PartialEq)]

@@ -18,8 +18,8 @@
 //! is more than [`FACTOR`] from that of the other chunks: hours of data resolve a few percent, which a
 //! real sensor's temperature alone can make, and a twin within that is still a fair model.
 
-use crate::accumulate::{CHANNEL_NAMES, CHANNELS};
 use crate::allan::{NoiseType, edf};
+use crate::channels::{CHANNEL_NAMES, CHANNELS};
 use sins_diag::{chi2_isf, chi2_sf};
 use std::ops::Range;
 

@@ -26,6 +26,7 @@
 
 pub mod accumulate;
 pub mod allan;
+pub mod channels;
 pub mod config;
 pub mod error;
 mod fit;
