@@ -92,7 +92,9 @@ pub fn render_events(scan: &EventScan) -> String {
             .iter()
             .filter(|c| c.run == run && c.shape == "turn-on transient")
             .collect();
+        // One column per time constant: the rows come channel by channel, each with every one.
         let mut taus: Vec<f64> = turn_on.iter().filter_map(|c| c.time_constant_s).collect();
+        taus.sort_by(f64::total_cmp);
         taus.dedup();
         if taus.is_empty() {
             continue;
@@ -116,4 +118,52 @@ pub fn render_events(scan: &EventScan) -> String {
         );
     }
     md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sins_diag::events::DetectableCurve;
+
+    fn curve(channel: &str, shape: &str, tau: Option<f64>, level: f64) -> DetectableCurve {
+        DetectableCurve {
+            run: "nav1".into(),
+            channel: channel.into(),
+            shape: shape.into(),
+            time_constant_s: tau,
+            unit: "deg/h".into(),
+            onset_s: vec![1080.0, 4680.0],
+            level: vec![level, level],
+        }
+    }
+
+    #[test]
+    fn the_turn_on_table_has_one_column_per_time_constant() {
+        // Curves come channel by channel, each with every time constant (as the scan lists
+        // them): the columns must not repeat once per channel.
+        let mut detectable = Vec::new();
+        for (k, ch) in ["gyro x", "gyro y"].iter().enumerate() {
+            detectable.push(curve(ch, "step", None, 1e-3));
+            for (j, tau) in [300.0, 600.0, 1200.0].iter().enumerate() {
+                let level = (10 * k + j) as f64;
+                detectable.push(curve(ch, "turn-on transient", Some(*tau), level));
+            }
+        }
+        let scan = EventScan {
+            tests: 1,
+            threshold_chi2: 30.0,
+            detectable,
+            ..EventScan::default()
+        };
+        let md = render_events(&scan);
+        let table = md
+            .split("Detectable turn-on transient in nav1")
+            .nth(1)
+            .expect("a turn-on table");
+        let lines: Vec<&str> = table.lines().filter(|l| l.starts_with('|')).collect();
+        assert_eq!(lines[0], "| channel | 300 | 600 | 1200 |", "{table}");
+        // Each cell is its own channel's level at that time constant.
+        assert_eq!(lines[2], "| gyro x (deg/h) | 0.00e0 | 1.00e0 | 2.00e0 |");
+        assert_eq!(lines[3], "| gyro y (deg/h) | 1.00e1 | 1.10e1 | 1.20e1 |");
+    }
 }

@@ -166,9 +166,27 @@ pub struct Heterogeneity {
     pub finding: bool,
 }
 
-/// Test every channel at both levels; `tau0_s` is the bin interval. Returns the significant
-/// differences only (findings and the small ones).
-pub(crate) fn test(chunks: &[Chunk], tau0_s: f64) -> Vec<Heterogeneity> {
+/// A level is not tested on a channel where the quantisation makes up more than this share of
+/// the pooled Allan variance (see [`test`]).
+pub const MAX_QUANTISATION_SHARE: f64 = 0.5;
+
+/// Test every channel at both levels; `tau0_s` is the bin interval, `quanta` the output quantum
+/// of each channel where its increments lie on a lattice (unit of the cumulative output: rad for
+/// a gyro). Returns the significant differences only (findings and the small ones).
+///
+/// A quantised output's rounding error is not a stationary noise: at rest it follows the
+/// rate's fraction of a quantum per sample, so its Allan variance (q²/4τ² on average, the
+/// textbook quantisation noise) differs from one orientation to the next by a factor of two
+/// or more. Where it makes up more than [`MAX_QUANTISATION_SHARE`] of the pooled Allan
+/// variance, chunks at different orientations would differ through the rounding alone (a
+/// navigation-grade gyro with a 1 arcsec quantum at τ ≈ 1 s), so that level is not tested on
+/// that channel: even a doubled quantisation term then moves a chunk's Allan deviation by
+/// less than [`FACTOR`].
+pub(crate) fn test(
+    chunks: &[Chunk],
+    tau0_s: f64,
+    quanta: &[Option<f64>; CHANNELS],
+) -> Vec<Heterogeneity> {
     let alpha = FALSE_ALARM / (2 * CHANNELS) as f64;
     let mut out = Vec::new();
     let octaves = chunks.iter().map(|c| c.sums.len()).max().unwrap_or(0);
@@ -200,6 +218,12 @@ pub(crate) fn test(chunks: &[Chunk], tau0_s: f64) -> Vec<Heterogeneity> {
             let Some(j) = j else { continue };
             let u = usable(j, level);
             if u.len() < 2 {
+                continue;
+            }
+            let tau = (1u64 << j) as f64 * tau0_s;
+            if let Some(q) = quanta[c]
+                && q * q / (4.0 * tau * tau) > MAX_QUANTISATION_SHARE * pooled(&u)
+            {
                 continue;
             }
             let Some(h) = bartlett(&u, chunks, alpha) else {
@@ -310,12 +334,46 @@ mod tests {
     }
 
     #[test]
+    fn a_quantised_gyro_at_four_orientations_is_not_a_finding() {
+        // Four hours, each at another rate (the Earth rate on the axis at another turntable
+        // position), of a 1-unit quantum output with white noise of 0.03 units per bin: the
+        // rounding, which dominates at every octave, has another Allan variance in each hour.
+        let rates = [0.12, 0.5, 0.013, 0.333];
+        let mut g = sins_sim::GaussianStream::new(3, 3);
+        let mut angle = 0.0f64;
+        let bins: Vec<[f64; CHANNELS]> = (0..4 * 3600)
+            .map(|k| {
+                angle += rates[k / 3600] + 0.03 * g.next_standard();
+                let mut b = [0.0; CHANNELS];
+                b[0] = angle.round();
+                b
+            })
+            .collect();
+        let all = vec![vec![0..bins.len()]; CHANNELS];
+        let c = chunks(0, 0.0, 1.0, &bins, &all);
+        // Taken as noise, the hours disagree by far more than FACTOR.
+        let blind = test(&c, 1.0, &[None; CHANNELS]);
+        let white = blind
+            .iter()
+            .find(|h| h.channel == "gyro_x" && h.level == "white")
+            .expect("the rounding differs between hours");
+        assert!(white.finding, "{white:?}");
+        // Known as quantisation, no level of gyro_x is tested.
+        let mut quanta = [None; CHANNELS];
+        quanta[0] = Some(1.0);
+        let h = test(&c, 1.0, &quanta);
+        assert!(h.iter().all(|h| h.channel != "gyro_x"), "{h:?}");
+    }
+
+    #[test]
     fn equal_noise_passes_and_a_noisier_hour_is_named() {
         let mut flagged = 0;
         for seed in 0..100 {
             let bins = white_bins(4 * 3600, 1.0, 100 + seed);
             let all = vec![vec![0..bins.len()]; CHANNELS];
-            flagged += usize::from(!test(&chunks(0, 0.0, 1.0, &bins, &all), 1.0).is_empty());
+            flagged += usize::from(
+                !test(&chunks(0, 0.0, 1.0, &bins, &all), 1.0, &[None; CHANNELS]).is_empty(),
+            );
         }
         // Family-wise 1e-3 per test: 100 tests give 0.1 expected; 2 would be p ≈ 0.005.
         assert!(flagged <= 1, "{flagged} of 100 homogeneous sets flagged");
@@ -330,7 +388,7 @@ mod tests {
             b[4] += extra;
         }
         let all = vec![vec![0..bins.len()]; CHANNELS];
-        let h = test(&chunks(0, 0.0, 1.0, &bins, &all), 1.0);
+        let h = test(&chunks(0, 0.0, 1.0, &bins, &all), 1.0, &[None; CHANNELS]);
         let w = h
             .iter()
             .find(|h| h.channel == "accel_y" && h.level == "white")

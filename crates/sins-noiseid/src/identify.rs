@@ -287,7 +287,9 @@ fn identify_pass(
     }
     inconsistent.extend(curves.iter().filter_map(model_check));
     let mut turn_on_s: Option<f64> = None;
-    for h in homogeneity::test(&acc.chunks, acc.tau0_s()) {
+    let quanta: [Option<f64>; CHANNELS] =
+        std::array::from_fn(|c| lattice.and_then(|q| q.get(c).copied()));
+    for h in homogeneity::test(&acc.chunks, acc.tau0_s(), &quanta) {
         let text = heterogeneity_text(&h, runs);
         if h.finding {
             inconsistent.push(text.clone());

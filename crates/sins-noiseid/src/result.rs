@@ -10,6 +10,13 @@ use sins_sim::noise::GM_ALLAN_PEAK_RATIO;
 /// The standard normal's one-sided 95 % quantile.
 const ONE_SIDED_95_Z: f64 = 1.644_853_626_951_472_2;
 
+/// A rate random walk counts as resolved (a finding, not noise the twin may absorb) only above
+/// this many sigma: the one-sided 1e-3 point of a normal. At 95 % (1.645 sigma) one triad in
+/// ten of a sensor without a walk came out "resolved" by chance (two triads per diagnosis), and
+/// its twin then carried no slow noise at all: the gap of a 0.0005 deg/h Gauss-Markov bias
+/// (a walk at 1.68 sigma over 10 h of still data) was then named as a catalogue effect.
+pub const WALK_RESOLVED_Z: f64 = 3.090_232_306_167_813_6;
+
 /// An identified quantity with its 1-sigma (same unit).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Estimate {
@@ -226,12 +233,13 @@ impl IdentifiedNoise {
     /// [`sins_diag::noise::DEFAULT_QUANTUM_FACTOR`]),
     /// with the 95 % upper bounds of the rate random walks as the walks the identification
     /// could not exclude ([`NoiseSpec::unresolved_walk_per_sqrt_s`]; none when the rate random
-    /// walk was not fitted). A triad whose walk the identification resolved (above zero at
-    /// 95 %) gets 0: that walk is a finding the diagnosis reports, not noise its twin absorbs.
+    /// walk was not fitted). A triad whose walk the identification resolved (above zero by
+    /// [`WALK_RESOLVED_Z`] sigma) gets 0: that walk is a finding the diagnosis reports, not noise
+    /// its twin absorbs.
     pub fn to_noise_spec(&self) -> NoiseSpec {
         let bounds = [&self.gyro, &self.accel].map(|s| {
             let k = s.rate_random_walk_per_sqrt_s;
-            if k.value > ONE_SIDED_95_Z * k.sigma {
+            if k.value > WALK_RESOLVED_Z * k.sigma {
                 Some(0.0)
             } else {
                 k.upper_bound_95()

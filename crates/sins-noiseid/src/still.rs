@@ -89,6 +89,10 @@ pub struct Window {
     pub mean: [f64; CHANNELS],
     /// Per-channel sum of squared deviations from the mean.
     pub ss: [f64; CHANNELS],
+    /// Per-channel smallest non-zero difference of a sample's rate from the window's first
+    /// (rad/s, m/s²; infinite when every sample equals the first): the output's resolution
+    /// where the output is quantised.
+    pub resolution: [f64; CHANNELS],
 }
 
 /// Builds the windows of one run in one pass (a window never straddles a change of the
@@ -133,6 +137,7 @@ impl WindowBuilder {
                     candidate,
                     mean: [0.0; CHANNELS],
                     ss: [0.0; CHANNELS],
+                    resolution: [f64::INFINITY; CHANNELS],
                 },
                 rates,
                 [0.0; CHANNELS],
@@ -143,6 +148,9 @@ impl WindowBuilder {
             let d = rates[c] - shift[c];
             sum[c] += d;
             w.ss[c] += d * d;
+            if d != 0.0 {
+                w.resolution[c] = w.resolution[c].min(d.abs());
+            }
         }
         w.n += 1;
         self.sample += 1;
@@ -205,10 +213,14 @@ pub fn detect(run: &str, windows: &[Window], cfg: &StillnessConfig) -> Stillness
         let mut v: Vec<f64> = full.iter().map(|w| w.ss[c] / (w.n as f64 - 1.0)).collect();
         v.sort_by(f64::total_cmp);
         let k = ((v.len() as f64 - 1.0) * cfg.floor_quantile).round() as usize;
-        // A channel without scatter (a quantised output at rest) gets a floor of one part in
-        // 1e12 of its level, so that the statistics stay finite.
+        // A quantised output cannot be quieter than its quantisation, a uniform error of one
+        // resolution step (variance step²/12 per sample): without this floor a gyro at rest
+        // whose rate is below one quantum per sample (increments mostly 0) has a quiet floor of
+        // zero and every pulse reads as motion. A channel without any scatter gets a floor of
+        // one part in 1e12 of its level, so that the statistics stay finite.
         let level = full.iter().map(|w| w.mean[c].abs()).fold(0.0, f64::max);
         out.sigma2[c] = (v[k] / corr)
+            .max(resolution(&full, c).powi(2) / 12.0)
             .max((1e-12 * level).powi(2))
             .max(f64::MIN_POSITIVE);
     }
@@ -291,6 +303,20 @@ pub fn detect(run: &str, windows: &[Window], cfg: &StillnessConfig) -> Stillness
         &out.sigma2,
     );
     out
+}
+
+/// The output resolution of channel `c` (rad/s or m/s²): the median over the windows of their
+/// smallest non-zero sample difference, 0 when no window has one. On a quantised output this is
+/// one quantum over the sample interval (a scale or bias correction applied in floating point
+/// keeps the steps at one corrected quantum); on a continuous one it is a small fraction of the
+/// noise, and the floor it sets is negligible.
+fn resolution(full: &[&Window], c: usize) -> f64 {
+    let steps: Vec<f64> = full
+        .iter()
+        .map(|w| w.resolution[c])
+        .filter(|r| r.is_finite())
+        .collect();
+    quantile(&steps, 0.5)
 }
 
 /// Whether windows `i - 1` and `i` are both full candidates (a change between them is tested).

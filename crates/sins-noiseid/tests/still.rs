@@ -149,3 +149,93 @@ fn still_stretches_are_found_in_an_unlabelled_run() {
     let late = still_s.iter().filter(|t| **t >= 900.0).count();
     assert!(early >= 295 && late >= 595, "{early} {late}");
 }
+
+/// Rates of `n` samples of the paper's gyro (0.0005 deg/sqrt(h)) whose angle increments are
+/// quantised at 1 arcsec (the angle accumulated and rounded, the remainder carried), plus
+/// `extra(t)`; the accelerometers as in [`run`].
+fn quantised_run(seed: u64, n: usize, extra: &dyn Fn(f64) -> [f64; 6]) -> WindowBuilder {
+    const QUANTUM_RAD: f64 = 4.848_136_811e-6;
+    let arw_sigma = 1.454e-7 / 0.1;
+    let cfg = StillnessConfig::default();
+    let mut b = WindowBuilder::new(H, &cfg);
+    let mut g = Gauss(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
+    let mut angle = [0.0f64; 3];
+    let mut counted = [0.0f64; 3];
+    for k in 0..n {
+        let t = (k + 1) as f64 * H;
+        let e = extra(t);
+        let r: [f64; 6] = std::array::from_fn(|c| {
+            if c < 3 {
+                angle[c] += (LEVEL[c] + arw_sigma * g.normal() + e[c]) * H;
+                let total = (angle[c] / QUANTUM_RAD).round() * QUANTUM_RAD;
+                let inc = total - counted[c];
+                counted[c] = total;
+                inc / H
+            } else {
+                LEVEL[c] + ACCEL_SIGMA * g.normal() + e[c]
+            }
+        });
+        b.push(t, r, true);
+    }
+    b.close();
+    b
+}
+
+#[test]
+fn a_quantised_gyro_at_rest_is_still_and_its_motion_is_still_found() {
+    // The paper's gyro at rest turns less than one quantum per sample (0.12 arcsec on y), so
+    // most increments are 0 and a window's scatter is a pulse or two. Before the detector's
+    // floor included the quantisation (step^2/12), its quiet floor was ~0 and every pulse
+    // read as motion (125 "motions" of 1 deg/h in one 4.2 h calibration run).
+    let mut flags = 0usize;
+    for seed in 0..5 {
+        let b = quantised_run(seed, 360_000, &|_| [0.0; 6]);
+        let s = detect("quantised", &b.windows, &StillnessConfig::default());
+        flags += s.motion.len();
+        // Gyro x, level 0, has mostly empty windows: its floor is the quantisation's, one
+        // arcsec per 10 ms over sqrt(12). Gyro y's pulses (p = 0.12 per sample) scatter more
+        // (p (1 - p) = 0.106 > 1/12 of a step squared), so its floor is its own.
+        let floor = 4.848e-6 / H / 12f64.sqrt();
+        assert!(
+            (s.sigma2[0].sqrt() / floor - 1.0).abs() < 0.01,
+            "gyro x floor {} against {floor}",
+            s.sigma2[0].sqrt()
+        );
+        assert!(s.sigma2[1].sqrt() >= floor);
+    }
+    // 5 h at 0.02 expected flags per hour: more than 2 has a Poisson probability below 1e-3.
+    assert!(
+        flags <= 2,
+        "{flags} motions in 5 h of a quantised gyro at rest"
+    );
+    // A 0.2 deg/s rotation for 5 s (4.3 quanta per sample) is found.
+    let rate = 0.2f64.to_radians();
+    let b = quantised_run(7, 360_000, &|t| {
+        let on = (600.0..605.0).contains(&t);
+        [0.0, if on { rate } else { 0.0 }, 0.0, 0.0, 0.0, 0.0]
+    });
+    let s = detect("rocking", &b.windows, &StillnessConfig::default());
+    assert_eq!(s.motion.len(), 1, "{:?}", s.motion);
+    assert_eq!(s.motion[0].channel, "gyro_y");
+    assert!(
+        (s.motion[0].start_s - 600.0).abs() <= 2.0,
+        "{:?}",
+        s.motion[0]
+    );
+    // A slow turn, 0.02 deg/s for a minute, is found. The floor makes the change test white
+    // with the quantisation's variance, which puts its single-axis limit near 28 deg/h here
+    // (sqrt(chi2 threshold 38 x 2 sigma^2 / n) with sigma^2 = 0.1 steps^2 of 100 deg/h).
+    let slow = 0.02f64.to_radians();
+    let b = quantised_run(9, 360_000, &|t| {
+        let on = (1200.0..1260.0).contains(&t);
+        [0.0, 0.0, if on { slow } else { 0.0 }, 0.0, 0.0, 0.0]
+    });
+    let s = detect("slow turn", &b.windows, &StillnessConfig::default());
+    assert!(
+        s.motion
+            .iter()
+            .any(|m| m.channel == "gyro_z" && (m.start_s - 1200.0).abs() <= 2.0),
+        "{:?}",
+        s.motion
+    );
+}
