@@ -110,6 +110,17 @@ pub fn plan(cfg: &Path, out: &Path, ctx: &Context) -> Result<(Manifest, bool), C
         if old == manifest {
             return Ok((manifest, false));
         }
+        // Another campaign (another name or another file) is not "an edited input".
+        if old.campaign != manifest.campaign || old.source != manifest.source {
+            return Err(refuse(format!(
+                "already holds campaign '{}' (planned from {}); pick another --out for campaign '{}' ({}), or remove {} first",
+                old.campaign,
+                old.source.display(),
+                manifest.campaign,
+                manifest.source.display(),
+                out.display()
+            )));
+        }
         old.check(out, &manifest.config_sha256, &ctx.binary)?;
         return Err(refuse(format!(
             "holds campaign '{}' planned differently; choose another --out",
@@ -343,6 +354,10 @@ impl Opened {
     /// between runs). Every result is checked before any is used; refuses a damaged result,
     /// naming its file and what is wrong, and a partial set, listing the missing and failed
     /// shards.
+    ///
+    /// The files are written into a staging directory in the campaign directory and moved into
+    /// place together ([`sins_config::files::commit_files`]): a failed or interrupted reduce
+    /// leaves the previous summary, report and timing as they were.
     pub fn reduce(&self) -> Result<Vec<String>, CampaignError> {
         let mut results = Vec::with_capacity(self.manifest.shards);
         let (mut missing, mut damaged) = (Vec::new(), Vec::new());
@@ -381,9 +396,16 @@ impl Opened {
             });
             outcomes.extend(f.outcomes);
         }
-        let mut files = self.work.reduce(outcomes, &self.dir)?;
-        write_text(&self.dir, "timing.json", &timing_json(&timing))?;
+        // The summary, report and timing are written into a staging directory inside DIR and
+        // moved into place together: a failed or interrupted reduce leaves the previous ones.
+        let stage_target = self.dir.join("reduce");
+        let staging = sins_config::files::Temporary::dir(&stage_target)
+            .map_err(|e| CampaignError::io(&stage_target, e))?;
+        let mut files = self.work.reduce(outcomes, &self.dir, staging.path())?;
+        write_text(staging.path(), "timing.json", &timing_json(&timing))?;
         files.push("timing.json".into());
+        sins_config::files::commit_files(staging, &files)
+            .map_err(|e| CampaignError::io(&self.dir, e))?;
         Ok(files)
     }
 

@@ -67,10 +67,13 @@ pub enum Kind {
         /// Pick-freeze rows (`None`: the file's).
         pick_freeze: Option<usize>,
     },
-    /// A list of report configurations: one job per configuration.
+    /// A list of report configurations: one job per configuration (and per noise seed).
     Reports {
         /// The configurations.
         configs: Vec<PathBuf>,
+        /// Run each configuration this many times, with sensor-noise seeds 1..=N (the
+        /// release gate's `--baseline`); `None`: once, with the experiment files' seeds.
+        noise_seeds: Option<u64>,
     },
 }
 
@@ -137,6 +140,7 @@ struct UqFile {
 #[serde(deny_unknown_fields)]
 struct ReportsFile {
     configs: Vec<String>,
+    noise_seeds: Option<u64>,
 }
 
 /// Reads a campaign file. Relative paths inside it are taken from the file's directory; paths
@@ -279,8 +283,14 @@ pub fn parse_campaign(
             if f.seed.is_some() {
                 return Err(bad("seed: a 'reports' campaign takes its seeds from each report configuration; remove `seed`".into()));
             }
+            if r.noise_seeds == Some(0) {
+                return Err(bad(
+                    "[reports] noise_seeds = 0: give the number of sensor-noise seeds (1 or more), or leave the key out".into(),
+                ));
+            }
             Kind::Reports {
                 configs: r.configs.iter().map(|c| dir.join(c)).collect(),
+                noise_seeds: r.noise_seeds,
             }
         }
         other => {

@@ -28,13 +28,16 @@ pub trait Work: Sync {
     }
     /// Runs job `job`; files it writes go under `dir`. Its outcome is what the reduce gets.
     fn run_job(&self, job: usize, dir: &Path) -> Result<serde_json::Value, CampaignError>;
-    /// Writes `summary.json`, `report.md` (and any figures) into `dir` from every job's
-    /// outcome in job order; returns the names of the files written. The bytes depend only on
-    /// the outcomes, never on timing or on the directory's path.
+    /// Writes `summary.json`, `report.md` (and any figures) into `out` from every job's
+    /// outcome in job order, reading anything else it needs from the campaign directory `dir`
+    /// (`out` is a staging directory that is moved into `dir` afterwards); returns the names of
+    /// the files written. The bytes depend only on the outcomes, never on timing or on the
+    /// directories' paths.
     fn reduce(
         &self,
         outcomes: Vec<serde_json::Value>,
         dir: &Path,
+        out: &Path,
     ) -> Result<Vec<String>, CampaignError>;
 }
 

@@ -79,6 +79,17 @@ pub enum ConfigError {
         /// What is wrong with it.
         problem: String,
     },
+    /// The file is of another kind than the one asked for (a parameter set given where a
+    /// noise file belongs, ...): `"{path} is {found}, not {expected}"`.
+    #[error("{} is {found}, not {expected}", path.display())]
+    WrongKind {
+        /// The file.
+        path: PathBuf,
+        /// What it is, e.g. "a parameter set (calibrate's output)".
+        found: String,
+        /// What was asked for, e.g. "a noise file (noise's output)".
+        expected: String,
+    },
     /// A key refers to a file that cannot be read.
     #[error(
         "{origin}{}: `{key}` refers to {}, which cannot be read: {source}",

@@ -161,7 +161,8 @@ pub fn load_experiment(path: impl AsRef<Path>) -> Result<Experiment, ConfigError
     let mut scenarios = Vec::with_capacity(raw.run.len());
     for (i, run) in raw.run.iter().enumerate() {
         let p = format!("run[{i}]");
-        check_name(&ctx, &format!("{p}.name"), &run.name)?;
+        crate::names::run_name(&run.name)
+            .map_err(|e| ctx.invalid(&format!("{p}.name"), e.to_string()))?;
         if !names.insert(run.name.clone()) {
             return Err(ctx.invalid(
                 &format!("{p}.name"),

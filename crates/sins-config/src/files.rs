@@ -8,9 +8,14 @@
 //!   and by [`remove_temporaries_and_exit`] (the binary's SIGINT/SIGTERM handler).
 //! - [`commit_section`] runs renames that must not be cut in half by the signal handler, and
 //!   [`replace_dir`] swaps a staged output directory into place.
+//! - [`commit_files`] moves a whole set of files staged in a `.NAME.partial-PID` directory into
+//!   place together: all of them or none, even when the process is killed in the middle.
 //! - [`sweep_stale`] removes the temporaries of processes that no longer run (named
 //!   `.NAME.tmp-PID[-N]`, `.NAME.partial-PID`, `.NAME.old-PID`), putting back an output that a
-//!   killed run had moved aside and not yet replaced.
+//!   killed run had moved aside and not yet replaced, and completing a set commit that a killed
+//!   run had started ([`COMMIT_RECORD`]).
+//!
+//! One writer per output directory is [`crate::lock`]'s business.
 
 use std::collections::HashSet;
 use std::fs::{File, OpenOptions};
@@ -27,6 +32,33 @@ static COUNTER: AtomicU64 = AtomicU64::new(0);
 static SWEPT: Mutex<Option<HashSet<PathBuf>>> = Mutex::new(None);
 /// Where messages about stale temporaries go (set by the binary; silent by default).
 static NOTIFIER: OnceLock<fn(&str)> = OnceLock::new();
+/// What an interruption leaves unchanged ([`set_interrupt_note`]), said by
+/// [`remove_temporaries_and_exit`]; cleared when a [`commit_files`] has put the new set in place.
+static INTERRUPT_NOTE: Mutex<Option<String>> = Mutex::new(None);
+
+/// The name of the commit record that [`commit_files`] writes inside a staging directory once
+/// every file of the new set is complete, before the first rename: its presence in the staging
+/// directory of a process that no longer runs means the set was committed, and [`sweep_stale`]
+/// then moves the files still in the staging directory into place (roll forward).
+pub const COMMIT_RECORD: &str = ".sinsbench-commit";
+/// First line of a [`COMMIT_RECORD`].
+const COMMIT_HEADER: &str = "sinsbench commit 1";
+/// Prefix, inside a staging directory, of the hard links to the files a commit replaces (so that
+/// a rename failing half-way can be undone).
+const PREVIOUS_PREFIX: &str = ".previous.";
+
+fn interrupt_note() -> MutexGuard<'static, Option<String>> {
+    INTERRUPT_NOTE
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Sets what a SIGINT/SIGTERM would leave unchanged (e.g. "the previous datasets in D are
+/// unchanged"), said through the notifier by [`remove_temporaries_and_exit`]; `None` clears it.
+/// [`commit_files`] clears it as soon as the new set is in place.
+pub fn set_interrupt_note(note: Option<String>) {
+    *interrupt_note() = note;
+}
 
 fn live() -> MutexGuard<'static, Vec<(u64, PathBuf)>> {
     LIVE.lock()
@@ -242,15 +274,146 @@ pub fn replace_dir(staging: Temporary, target: &Path) -> std::io::Result<()> {
     Ok(())
 }
 
-/// Removes every registered temporary of this process and exits with `code`; the lock on the
-/// registry is held until the exit, so no rename can follow. For the binary's signal handler.
+/// Removes every registered temporary of this process, says the interruption note
+/// ([`set_interrupt_note`]) through the notifier, releases the output locks
+/// ([`crate::lock::release_all`]) and exits with `code`; the lock on the registry is held until
+/// the exit, so no rename can follow. For the binary's signal handler.
 pub fn remove_temporaries_and_exit(code: i32) -> ! {
     let guard = live();
     // Newest first: a temporary file inside a staging directory goes before the directory.
     for (_, path) in guard.iter().rev() {
         remove_path(path);
     }
+    let note = interrupt_note().take();
+    if let (Some(note), Some(notify)) = (note, NOTIFIER.get()) {
+        notify(&note);
+    }
+    crate::lock::release_all();
     std::process::exit(code)
+}
+
+/// Moves the files `names` (plain names) of the staging directory `staging` (made by
+/// [`Temporary::dir`]) into the directory that holds it, replacing files of the same names: the
+/// whole set or nothing.
+///
+/// Before anything moves, each file to be replaced is hard-linked into the staging directory
+/// (a failure there, a full disk included, leaves every target as it was) and the
+/// [`COMMIT_RECORD`] is written and synced. The renames then run inside a [`commit_section`],
+/// so SIGINT/SIGTERM take effect before the first or after the last, never in between. A rename
+/// that fails half-way is undone from the links. A SIGKILL (or a power cut) between two renames
+/// cannot be stopped by any handler: the set in the directory is then mixed until the next
+/// sinsbench command that writes there runs [`sweep_stale`], which finds the record of a process
+/// that no longer runs and completes the commit. A reader that does not sweep (`navigate` on one
+/// dataset) can see that mixed set in the meantime; it lasts only as long as the killed run's
+/// remaining renames would have.
+///
+/// The staging directory is removed in every case.
+pub fn commit_files(staging: Temporary, names: &[String]) -> std::io::Result<()> {
+    let dir = parent_of(&staging.path);
+    for name in names {
+        if name.is_empty() || name.contains('/') || name.starts_with('.') {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                format!("{name:?}: not a plain file name for a commit"),
+            ));
+        }
+        let target = dir.join(name);
+        refuse_directory(&target).map_err(|e| named(&target, e))?;
+        let staged = staging.path.join(name);
+        match std::fs::symlink_metadata(&staged) {
+            Ok(m) if m.is_file() => {}
+            Ok(_) => {
+                return Err(named(
+                    &staged,
+                    std::io::Error::other("is not a regular file"),
+                ));
+            }
+            Err(e) => return Err(named(&staged, e)),
+        }
+        if std::fs::symlink_metadata(&target).is_ok() {
+            let link = staging.path.join(format!("{PREVIOUS_PREFIX}{name}"));
+            std::fs::hard_link(&target, &link).map_err(|e| named(&link, e))?;
+        }
+    }
+    let mut record = format!("{COMMIT_HEADER}\n");
+    for name in names {
+        record.push_str(name);
+        record.push('\n');
+    }
+    write_file_atomically(&staging.path.join(COMMIT_RECORD), record.as_bytes())?;
+    let moved = commit_section(|| {
+        for (done, name) in names.iter().enumerate() {
+            if let Err(e) = std::fs::rename(staging.path.join(name), dir.join(name)) {
+                return Err((done, named(&dir.join(name), e)));
+            }
+        }
+        *interrupt_note() = None;
+        Ok(())
+    });
+    if let Err((done, e)) = moved {
+        // Undo: the files already moved go back to what they were.
+        let mut undo_failed = Vec::new();
+        for name in names.iter().take(done) {
+            let target = dir.join(name);
+            let link = staging.path.join(format!("{PREVIOUS_PREFIX}{name}"));
+            let undone = if link.exists() {
+                std::fs::rename(&link, &target)
+            } else {
+                std::fs::remove_file(&target)
+            };
+            if undone.is_err() {
+                undo_failed.push(target.display().to_string());
+            }
+        }
+        // The record goes before the staging directory, so that no sweep rolls this forward.
+        let _ = std::fs::remove_file(staging.path.join(COMMIT_RECORD));
+        if undo_failed.is_empty() {
+            return Err(e);
+        }
+        return Err(std::io::Error::new(
+            e.kind(),
+            format!(
+                "{e}; and {} could not be put back as they were (the set there is mixed)",
+                undo_failed.join(", ")
+            ),
+        ));
+    }
+    drop(staging);
+    if let Ok(d) = File::open(&dir) {
+        let _ = d.sync_all();
+    }
+    Ok(())
+}
+
+/// `e` with `path` in front of its message.
+fn named(path: &Path, e: std::io::Error) -> std::io::Error {
+    std::io::Error::new(e.kind(), format!("{}: {e}", path.display()))
+}
+
+/// Completes the commit recorded in `staging` (a staging directory of a process that no longer
+/// runs, holding a [`COMMIT_RECORD`]): moves every listed file still there into `dir`. Returns
+/// the number moved, or why it could not.
+fn roll_forward(staging: &Path, dir: &Path) -> Result<usize, String> {
+    let record = staging.join(COMMIT_RECORD);
+    let text =
+        std::fs::read_to_string(&record).map_err(|e| format!("{}: {e}", record.display()))?;
+    let mut lines = text.lines();
+    if lines.next() != Some(COMMIT_HEADER) {
+        return Err(format!("{}: not a commit record", record.display()));
+    }
+    let mut moved = 0;
+    for name in lines.filter(|l| !l.is_empty()) {
+        if name.contains('/') || name.starts_with('.') {
+            return Err(format!("{}: bad name {name:?}", record.display()));
+        }
+        let from = staging.join(name);
+        if std::fs::symlink_metadata(&from).is_ok() {
+            std::fs::rename(&from, dir.join(name))
+                .map_err(|e| format!("{} -> {}: {e}", from.display(), dir.display()))?;
+            moved += 1;
+        }
+    }
+    Ok(moved)
 }
 
 /// Writes `bytes` to `.NAME.tmp-PID-N` beside `path`, syncs it and renames it over `path`; the
@@ -362,6 +525,24 @@ pub fn sweep_stale(dir: &Path) -> Vec<String> {
                         )),
                     }
                     continue;
+                }
+                if kind == Kind::Partial && path.join(COMMIT_RECORD).is_file() {
+                    match roll_forward(&path, dir) {
+                        Ok(0) => {}
+                        Ok(n) => notes.push(format!(
+                            "{}: completed the replacement of the output set ({n} file(s) moved \
+                             into place; process {pid} was stopped while moving them)",
+                            dir.display()
+                        )),
+                        Err(e) => {
+                            notes.push(format!(
+                                "{}: cannot complete the replacement of the output set that \
+                                 process {pid} had started ({e}); left for you to inspect",
+                                path.display()
+                            ));
+                            continue;
+                        }
+                    }
                 }
                 remove_path(&path);
                 if std::fs::symlink_metadata(&path).is_ok() {
@@ -512,5 +693,81 @@ mod tests {
         assert_eq!(std::fs::read_to_string(target.join("a")).unwrap(), "new");
         let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
         assert_eq!(names.len(), 1, "only out/ remains: {names:?}");
+    }
+    fn names(v: &[&str]) -> Vec<String> {
+        v.iter().map(|x| (*x).to_string()).collect()
+    }
+
+    #[test]
+    fn commit_files_replaces_the_whole_set_and_leaves_nothing() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let d = dir.path();
+        for n in ["a", "b", "c"] {
+            std::fs::write(d.join(n), "old").unwrap();
+        }
+        let staged = Temporary::dir(&d.join("set")).unwrap();
+        for n in ["a", "b", "c"] {
+            std::fs::write(staged.path().join(n), "new").unwrap();
+        }
+        commit_files(staged, &names(&["a", "b", "c"])).unwrap();
+        for n in ["a", "b", "c"] {
+            assert_eq!(std::fs::read_to_string(d.join(n)).unwrap(), "new");
+        }
+        assert_eq!(std::fs::read_dir(d).unwrap().count(), 3, "no staging left");
+    }
+
+    #[test]
+    fn a_failed_commit_puts_every_file_back() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let d = dir.path();
+        std::fs::write(d.join("a"), "old a").unwrap();
+        let staged = Temporary::dir(&d.join("set")).unwrap();
+        std::fs::write(staged.path().join("a"), "new a").unwrap();
+        std::fs::write(staged.path().join("b"), "new b").unwrap();
+        // "c" was never written: refused before anything moves.
+        let e = commit_files(staged, &names(&["a", "b", "c"])).unwrap_err();
+        assert!(e.to_string().contains('c'), "{e}");
+        assert_eq!(std::fs::read_to_string(d.join("a")).unwrap(), "old a");
+        assert!(!d.join("b").exists());
+        assert_eq!(std::fs::read_dir(d).unwrap().count(), 1, "no staging left");
+    }
+
+    #[test]
+    fn a_commit_cut_by_sigkill_is_completed_by_the_next_sweep() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let d = dir.path();
+        let dead = 4_999_999;
+        // The killed run had moved "a" and was about to move "b" and "c".
+        std::fs::write(d.join("a"), "new").unwrap();
+        std::fs::write(d.join("b"), "old").unwrap();
+        std::fs::write(d.join("c"), "old").unwrap();
+        let staging = d.join(format!(".set.partial-{dead}"));
+        std::fs::create_dir(&staging).unwrap();
+        std::fs::write(staging.join("b"), "new").unwrap();
+        std::fs::write(staging.join("c"), "new").unwrap();
+        std::fs::write(staging.join(".previous.b"), "old").unwrap();
+        std::fs::write(
+            staging.join(COMMIT_RECORD),
+            format!("{COMMIT_HEADER}\na\nb\nc\n"),
+        )
+        .unwrap();
+        let notes = sweep_stale(d);
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.contains("completed the replacement")),
+            "{notes:?}"
+        );
+        for n in ["a", "b", "c"] {
+            assert_eq!(std::fs::read_to_string(d.join(n)).unwrap(), "new", "{n}");
+        }
+        assert_eq!(std::fs::read_dir(d).unwrap().count(), 3, "{notes:?}");
+        // Without a record (killed before the commit), the staged files are only removed.
+        let staging = d.join(format!(".set.partial-{dead}"));
+        std::fs::create_dir(&staging).unwrap();
+        std::fs::write(staging.join("a"), "newer").unwrap();
+        sweep_stale(d);
+        assert_eq!(std::fs::read_to_string(d.join("a")).unwrap(), "new");
+        assert_eq!(std::fs::read_dir(d).unwrap().count(), 3);
     }
 }

@@ -35,8 +35,10 @@ mod exact;
 mod experiment;
 pub mod files;
 mod harness;
+pub mod lock;
 pub mod markdown;
 mod motion;
+pub mod names;
 mod noise_table;
 mod params;
 mod params_write;
@@ -51,11 +53,14 @@ pub use error::ConfigError;
 pub use experiment::{EXPERIMENT_SCHEMA, Experiment, load_experiment};
 pub use files::write_file_atomically;
 pub use harness::{
-    load_report_config, load_table5, load_thresholds, read_summary, summary_to_json,
+    load_report_config, load_table5, load_thresholds, read_report_list, read_summary,
+    summary_to_json,
 };
 pub use motion::motion_duration_s;
+pub use names::{RUN_NAME_RULE, RunNameError, run_name};
 pub use noise_table::{
-    NOISE_KIND, NoiseTable, load_noise, noise_to_toml, noise_to_toml_checked, write_noise,
+    NOISE_KIND, NoiseTable, load_noise, noise_to_toml, noise_to_toml_checked, parse_noise_file,
+    write_noise,
 };
 pub use params::{
     ParamFormat, ParamSet, load_params, model_name, parse_params_json, parse_params_toml,

@@ -12,13 +12,16 @@
 //! gyro_arw_deg_per_sqrt_h = 0.00002
 //! [imu.unresolved_walk] # optional: the rate random walks the data could not exclude
 //! gyro_deg_per_h_per_sqrt_h = 0.0031   # 95 % upper bounds; 0 where the walk was resolved
-//! accel_ug_per_sqrt_h = 2.4
+//! accel_ug_per_sqrt_h = 2.4            # a key left out: the data put no finite bound on it
 //! ```
 //!
 //! [`load_noise`] reads either such a file or a whole experiment file (the noise of its first
-//! run). Unknown keys are errors, as everywhere. Writing then reading reproduces the SI model
-//! to a few units in the last place (each figure is written as the shortest decimal of its
-//! paper-unit value; a bias instability passes through the Allan-peak ratio 0.6174).
+//! run); a parameter set given instead is named as such ([`ConfigError::WrongKind`]). Unknown
+//! keys are errors, as everywhere. Every figure written is one the reader takes back: a walk
+//! bound that is not finite is left out with a comment, never written as `inf`. Writing then
+//! reading reproduces the SI model to a few units in the last place (each figure is written as
+//! the shortest decimal of its paper-unit value; a bias instability passes through the
+//! Allan-peak ratio 0.6174).
 
 use crate::ctx::Ctx;
 use crate::error::ConfigError;
@@ -43,8 +46,9 @@ pub struct NoiseTable {
     /// 1-sigma of every field of `noise` (SI, same layout), when the file gives them.
     pub sigma: Option<NoiseModel>,
     /// The rate random walks the identification could not exclude, gyro (rad/s/√s) and
-    /// accelerometer (m/s²/√s): 95 % upper bounds, 0 for a walk it resolved; `None` when the
-    /// file has no `[imu.unresolved_walk]` (an experiment never has).
+    /// accelerometer (m/s²/√s): 95 % upper bounds, 0 for a walk it resolved, +∞ for a walk the
+    /// data put no finite bound on (its key left out of the file; the diagnosis does not fit
+    /// it); `None` when the file has no `[imu.unresolved_walk]` (an experiment never has).
     pub unresolved_walk_per_sqrt_s: Option<[f64; 2]>,
     /// Why the identification found its model inconsistent with the data (the
     /// `[identification] inconsistent` list; empty when consistent or absent).
@@ -87,12 +91,15 @@ struct NoiseImu {
     unresolved_walk: Option<WalkFile>,
 }
 
-/// `[imu.unresolved_walk]`: 95 % upper bounds of the rate random walks, paper units.
+/// `[imu.unresolved_walk]`: 95 % upper bounds of the rate random walks, paper units; a key
+/// left out is a walk the data put no finite bound on.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct WalkFile {
-    gyro_deg_per_h_per_sqrt_h: f64,
-    accel_ug_per_sqrt_h: f64,
+    #[serde(default)]
+    gyro_deg_per_h_per_sqrt_h: Option<f64>,
+    #[serde(default)]
+    accel_ug_per_sqrt_h: Option<f64>,
 }
 
 #[derive(Default, Deserialize)]
@@ -123,6 +130,13 @@ pub fn load_noise(path: impl AsRef<Path>) -> Result<NoiseTable, ConfigError> {
         })
         .unwrap_or(false);
     if !is_noise {
+        if let Some(found) = other_kind(path, &text) {
+            return Err(ConfigError::WrongKind {
+                path: path.to_owned(),
+                found: found.into(),
+                expected: "a noise file (noise's output)".into(),
+            });
+        }
         let exp = load_experiment(path)?;
         let ctx = Ctx::new(path, &text);
         let noise = exp
@@ -140,8 +154,36 @@ pub fn load_noise(path: impl AsRef<Path>) -> Result<NoiseTable, ConfigError> {
             source_path: path.to_owned(),
         });
     }
-    let ctx = Ctx::new(path, &text);
-    let raw: NoiseOnlyFile = toml_util::from_str(&text, &ctx.origin)?;
+    parse_noise_file(&text, path)
+}
+
+/// What a file that is not a noise file is, when it is recognisably something else: a
+/// parameter set (TOML with `[gyro]`/`[accel]` tables or a `model` key and neither `[imu]`
+/// nor `[[run]]`, or JSON with those keys).
+fn other_kind(path: &Path, text: &str) -> Option<&'static str> {
+    const PARAMS: &str = "a parameter set (calibrate's output)";
+    let looks_like_params = |has: &dyn Fn(&str) -> bool| {
+        (has("gyro") || has("accel") || has("model")) && !has("imu") && !has("run")
+    };
+    if let Ok(t) = toml::from_str::<toml::Table>(text) {
+        return looks_like_params(&|k| t.contains_key(k)).then_some(PARAMS);
+    }
+    match serde_json::from_str::<serde_json::Value>(text) {
+        Ok(serde_json::Value::Object(o)) => {
+            looks_like_params(&|k| o.contains_key(k)).then_some(PARAMS)
+        }
+        _ => {
+            let json = path.extension().is_some_and(|e| e == "json");
+            json.then_some("a JSON file")
+        }
+    }
+}
+
+/// Read the text of a noise file (`kind = "noise"`; not an experiment) read from `path`, as
+/// [`load_noise`] does: e.g. to check that a noise file about to be written reads back.
+pub fn parse_noise_file(text: &str, path: &Path) -> Result<NoiseTable, ConfigError> {
+    let ctx = Ctx::new(path, text);
+    let raw: NoiseOnlyFile = toml_util::from_str(text, &ctx.origin)?;
     check_schema(&ctx, raw.schema)?;
     let noise = build_noise(&ctx, &raw.imu.noise)?;
     let sigma = match &raw.imu.noise_sigma {
@@ -171,15 +213,16 @@ pub fn load_noise(path: impl AsRef<Path>) -> Result<NoiseTable, ConfigError> {
 }
 
 fn walk_bounds(ctx: &Ctx<'_>, w: &WalkFile) -> Result<[f64; 2], ConfigError> {
-    let check = |name: &str, v: f64, unit: f64| {
-        if v.is_finite() && v >= 0.0 {
-            Ok(v * unit)
-        } else {
-            Err(ctx.invalid(
-                &format!("imu.unresolved_walk.{name}"),
-                format!("a bound must be finite and >= 0, got {v}"),
-            ))
-        }
+    let check = |name: &str, v: Option<f64>, unit: f64| match v {
+        None => Ok(f64::INFINITY),
+        Some(v) if v.is_finite() && v >= 0.0 => Ok(v * unit),
+        Some(v) => Err(ctx.invalid(
+            &format!("imu.unresolved_walk.{name}"),
+            format!(
+                "a bound must be finite and >= 0, got {v} (leave the key out where the data \
+                 put no finite bound on the walk)"
+            ),
+        )),
     };
     Ok([
         check(
@@ -262,8 +305,12 @@ fn paper_values(m: &NoiseModel) -> [(&'static str, f64, &'static str); 7] {
     ]
 }
 
-/// A TOML number: the shortest decimal that reads back to `v` (`inf` for infinity).
+/// A TOML number: the shortest decimal that reads back to `v` (`inf` for infinity, `nan` for
+/// NaN: valid TOML, which the reader then refuses naming the key).
 fn number(v: f64) -> String {
+    if v.is_nan() {
+        return "nan".into();
+    }
     if v.is_infinite() {
         return if v > 0.0 { "inf".into() } else { "-inf".into() };
     }
@@ -349,11 +396,20 @@ fn render(
              # the walk was resolved): the diagnosis fits walks up to these on the navigation gap.\n\
              [imu.unresolved_walk]\n",
         );
-        out.push_str(&format!(
-            "gyro_deg_per_h_per_sqrt_h = {}\naccel_ug_per_sqrt_h = {}\n",
-            number(g / DEG_PER_H_PER_SQRT_H),
-            number(a / UG_PER_SQRT_H)
-        ));
+        for (key, si, unit, what) in [
+            ("gyro_deg_per_h_per_sqrt_h", g, DEG_PER_H_PER_SQRT_H, "gyro"),
+            ("accel_ug_per_sqrt_h", a, UG_PER_SQRT_H, "accelerometer"),
+        ] {
+            let v = si / unit;
+            if v.is_finite() {
+                out.push_str(&format!("{key} = {}\n", number(v)));
+            } else {
+                out.push_str(&format!(
+                    "# {key} left out: the stationary data put no finite 95 % bound on the {what} \
+                     rate random walk (too little or too short still data), so the diagnosis does not fit it\n"
+                ));
+            }
+        }
     }
     let Some(inconsistent) = inconsistent else {
         return out;
@@ -452,6 +508,51 @@ mod tests {
         assert!(s.gyro_bias_correlation_s.is_infinite());
         let [g, a] = t.unresolved_walk_per_sqrt_s.expect("walk bounds");
         assert!(close(g, 3.3e-9) && a == 0.0, "{g} {a}");
+    }
+
+    #[test]
+    fn a_walk_bound_that_is_not_finite_is_left_out_and_reads_back_as_unbounded() {
+        let text = noise_to_toml(&model(), None, Some([3.3e-9, f64::INFINITY]), "x", &[]);
+        let walks = text
+            .split("[imu.unresolved_walk]")
+            .nth(1)
+            .expect("walk table");
+        assert!(!walks.contains("= inf"), "{text}");
+        assert!(
+            text.contains("# accel_ug_per_sqrt_h left out: the stationary data put no finite"),
+            "{text}"
+        );
+        let t = parse_noise_file(&text, Path::new("noise.toml")).expect("reads back");
+        let [g, a] = t.unresolved_walk_per_sqrt_s.expect("bounds");
+        assert!(close(g, 3.3e-9) && a == f64::INFINITY, "{g} {a}");
+        let nan = noise_to_toml(&model(), None, Some([f64::NAN, 0.0]), "x", &[]);
+        assert!(
+            nan.contains("# gyro_deg_per_h_per_sqrt_h left out"),
+            "{nan}"
+        );
+        // A NaN figure elsewhere is written as TOML's `nan`, which the reader refuses by key.
+        let mut bad = model();
+        bad.gyro_arw_rad_per_sqrt_s = f64::NAN;
+        let e = parse_noise_file(
+            &noise_to_toml(&bad, None, None, "x", &[]),
+            Path::new("n.toml"),
+        )
+        .expect_err("nan refused")
+        .to_string();
+        assert!(e.contains("imu.noise.gyro_arw_deg_per_sqrt_h"), "{e}");
+    }
+
+    #[test]
+    fn a_parameter_set_given_as_a_noise_file_is_named_as_such() {
+        let imu = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments/imu");
+        let e = load_noise(imu.join("paper_truth.toml"))
+            .expect_err("a parameter set")
+            .to_string();
+        assert!(
+            e.contains("paper_truth.toml is a parameter set (calibrate's output), not a noise file (noise's output)"),
+            "{e}"
+        );
+        assert!(!e.contains("unknown field"), "{e}");
     }
 
     #[test]

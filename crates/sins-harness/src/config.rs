@@ -80,6 +80,24 @@ pub struct ReportConfig {
     pub uq: Option<PathBuf>,
     /// Replay options.
     pub replay: ReplayOptions,
+    /// A sensor-noise seed that replaces the seed of every simulated run (calibration and
+    /// navigation) by [`reseed`] of its own: the same configuration over other noise draws, for
+    /// a release gate that knows the run-to-run spread (the `reports` campaign's
+    /// `noise_seeds`). `None`: the experiment files' seeds.
+    pub noise_seed: Option<u64>,
+}
+
+/// The seed of a simulated run under noise seed `noise_seed` (SplitMix64 of the run's own seed
+/// and the noise seed): every run keeps its own stream, and each noise seed gives another draw
+/// of all of them.
+pub fn reseed(run_seed: u64, noise_seed: u64) -> u64 {
+    let mix = |mut z: u64| {
+        z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    };
+    mix(run_seed ^ mix(noise_seed))
 }
 
 /// The coning algorithm named as on the command line (`reconstruct`, `one-plus-previous`,

@@ -20,6 +20,7 @@
 
 #![warn(missing_docs)]
 
+pub mod baseline;
 pub mod config;
 mod error;
 pub mod gate;
@@ -27,6 +28,7 @@ pub mod pipeline;
 pub mod reference;
 pub mod replay_setup;
 pub mod segments;
+pub mod shift;
 pub mod summary;
 
 pub use error::HarnessError;

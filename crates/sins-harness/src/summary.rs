@@ -114,6 +114,10 @@ pub struct Summary {
     pub comparison: Option<Comparison>,
     /// One entry per experiment, in order.
     pub experiments: Vec<ExperimentSummary>,
+    /// The sensor-noise seed the simulated runs were drawn with
+    /// ([`crate::config::ReportConfig::noise_seed`]); absent: the experiment files' own seeds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise_seed: Option<u64>,
 }
 
 impl Summary {
@@ -161,6 +165,7 @@ impl Summary {
                 improvement_percent: Some(improvement_percent(without_nmi, with_nmi)),
                 paper: None,
             }],
+            noise_seed: None,
         }
     }
 }

@@ -76,7 +76,10 @@ pub fn run_report(
     let mut sources = Vec::new();
     match &config.navigation {
         NavigationSource::Experiment(path) => {
-            let exp = load_experiment(path)?;
+            let mut exp = load_experiment(path)?;
+            for sc in &mut exp.scenarios {
+                apply_noise_seed(sc, config.noise_seed);
+            }
             for sc in &exp.scenarios {
                 let t = Instant::now();
                 progress.begin(
@@ -147,6 +150,7 @@ pub fn run_report(
             .collect(),
         comparison: config.comparison.clone(),
         experiments,
+        noise_seed: config.noise_seed,
     };
     Ok(ReportRun {
         config: config.clone(),
@@ -157,6 +161,13 @@ pub fn run_report(
         timings,
         appendix: None,
     })
+}
+
+/// Draw a simulated run's noise with `noise_seed` ([`sins_harness::config::reseed`]).
+fn apply_noise_seed(sc: &mut sins_sim::Scenario, noise_seed: Option<u64>) {
+    if let Some(n) = noise_seed {
+        sc.seed = sins_harness::config::reseed(sc.seed, n);
+    }
 }
 
 /// Load the file sets and calibrate the others (one simulation feeds every filter).
@@ -175,7 +186,10 @@ fn resolve_sets(
     let mut calibrated = Vec::new();
     let mut cal_source = String::new();
     if let (false, Some(cal)) = (models.is_empty(), &config.calibration) {
-        let exp = load_experiment(&cal.experiment)?;
+        let mut exp = load_experiment(&cal.experiment)?;
+        for sc in &mut exp.scenarios {
+            apply_noise_seed(sc, config.noise_seed);
+        }
         let scenario = match &cal.run {
             Some(r) => exp.scenarios.iter().find(|s| &s.name == r).ok_or_else(|| {
                 ReportError::Mismatch(format!(

@@ -79,7 +79,8 @@ fn by_level(o: &mut String, s: &UqSummary) {
     let _ = writeln!(
         o,
         "\nWhere one choice assumption dominates a cell (discovered, first-order index >= {}), the cell is bimodal and its \
-         median lies between the modes (hence the large bootstrap error above); per level:\n",
+         median lies between the modes (hence the large bootstrap error above); per level, with the V&V 20 comparison of \
+         that level alone (a bimodal cell's u_input spans both modes, so only a level's comparison can be informative):\n",
         sins_uq::summary::DOMINANT_INDEX
     );
     let mut t = Table::new([
@@ -88,6 +89,9 @@ fn by_level(o: &mut String, s: &UqSummary) {
         "samples",
         "median (se)",
         "5-95 %",
+        "E",
+        "u_val",
+        "V&V 20",
     ]);
     for c in &s.cells {
         for l in &c.by_level {
@@ -97,6 +101,15 @@ fn by_level(o: &mut String, s: &UqSummary) {
                 l.samples.to_string(),
                 format!("{:.2} ({:.2})", l.median, l.median_se),
                 format!("{:.2} - {:.2}", l.p05, l.p95),
+                l.validation
+                    .as_ref()
+                    .map_or_else(|| "-".into(), |v| format!("{:.2}", v.e)),
+                l.validation
+                    .as_ref()
+                    .map_or_else(|| "-".into(), |v| format!("{:.2}", v.u_val)),
+                l.validation
+                    .as_ref()
+                    .map_or_else(|| "-".into(), |v| v.verdict()),
             ]);
         }
     }

@@ -123,6 +123,11 @@ pub struct LevelSummary {
     pub p95: f64,
     /// Bootstrap standard error of the median.
     pub median_se: f64,
+    /// The V&V 20 comparison of this level alone with the paper (when the paper has the
+    /// cell): a bimodal cell's u_input spans both modes, so only a level's comparison can be
+    /// informative.
+    #[serde(default)]
+    pub validation: Option<Validation>,
 }
 
 /// Global sensitivity of one cell.
@@ -373,11 +378,11 @@ fn cell_summary(
     let seed = set.seed ^ (0x5eed_0000 + k as u64);
     let se = bootstrap_quantile_se(vals, &[0.05, 0.5, 0.95], BOOTSTRAP_RESAMPLES, seed);
     let median = quantile(vals, 0.5);
+    let floor = match id.kind {
+        CellKind::Improvement => 0.0,
+        _ => FLOOR_M / NMI_M,
+    };
     let validation = paper.map(|p| {
-        let floor = match id.kind {
-            CellKind::Improvement => 0.0,
-            _ => FLOOR_M / NMI_M,
-        };
         Validation::new(
             median,
             p.value,
@@ -440,7 +445,22 @@ fn cell_summary(
         p05: quantile(vals, 0.05),
         p95: quantile(vals, 0.95),
         bootstrap_se: [se[0], se[1], se[2]],
-        by_level: by_level(set, inputs, sensitivity.as_ref(), vals, seed),
+        by_level: by_level(set, inputs, sensitivity.as_ref(), vals, seed)
+            .into_iter()
+            .map(|l| {
+                let mut level = l.summary;
+                level.validation = paper.map(|p| {
+                    Validation::new(
+                        level.median,
+                        p.value,
+                        level.median_se.hypot(floor),
+                        l.sd,
+                        p.scatter,
+                    )
+                });
+                level
+            })
+            .collect(),
         validation,
         sensitivity,
     }
@@ -448,13 +468,19 @@ fn cell_summary(
 
 /// [`CellSummary::by_level`]: the cell's values split by the levels of its leading assumption
 /// when that is a discovered choice with index >= [`DOMINANT_INDEX`].
+/// A level's summary and the standard deviation of its values (its u_input).
+struct LevelValues {
+    summary: LevelSummary,
+    sd: f64,
+}
+
 fn by_level(
     set: &AssumptionSet,
     inputs: &Inputs,
     sens: Option<&CellSensitivity>,
     vals: &[f64],
     seed: u64,
-) -> Vec<LevelSummary> {
+) -> Vec<LevelValues> {
     let Some(top) = sens.and_then(|s| s.inputs.first()) else {
         return Vec::new();
     };
@@ -481,19 +507,23 @@ fn by_level(
                 .filter(|(x, _)| **x == level as f64)
                 .map(|(_, v)| *v)
                 .collect();
-            (v.len() >= 2).then(|| LevelSummary {
-                assumption: top.name.clone(),
-                level: label.clone(),
-                samples: v.len(),
-                median: sig(quantile(&v, 0.5)),
-                p05: sig(quantile(&v, 0.05)),
-                p95: sig(quantile(&v, 0.95)),
-                median_se: sig(bootstrap_quantile_se(
-                    &v,
-                    &[0.5],
-                    BOOTSTRAP_RESAMPLES,
-                    seed ^ level as u64,
-                )[0]),
+            (v.len() >= 2).then(|| LevelValues {
+                summary: LevelSummary {
+                    assumption: top.name.clone(),
+                    level: label.clone(),
+                    samples: v.len(),
+                    median: sig(quantile(&v, 0.5)),
+                    p05: sig(quantile(&v, 0.05)),
+                    p95: sig(quantile(&v, 0.95)),
+                    median_se: sig(bootstrap_quantile_se(
+                        &v,
+                        &[0.5],
+                        BOOTSTRAP_RESAMPLES,
+                        seed ^ level as u64,
+                    )[0]),
+                    validation: None,
+                },
+                sd: mean_sd(&v).1,
             })
         })
         .collect()
@@ -541,6 +571,8 @@ fn gap_diagnosis<'a>(
 mod tests {
     use super::*;
     use crate::assumptions::{Assumption, Knob};
+    use crate::cell::{CellKind, PaperCell};
+    use crate::vv::VvWord;
 
     fn set() -> AssumptionSet {
         AssumptionSet {
@@ -581,6 +613,55 @@ mod tests {
     }
 
     #[test]
+    fn a_bimodal_cell_is_compared_with_the_paper_level_by_level() {
+        // "ramp" near 60 nmi, "stable" near 1.1 nmi; the paper says 1.1 ± 0.1.
+        let x: Vec<f64> = (0..40).map(|i| (i % 2) as f64).collect();
+        let vals: Vec<f64> = (0..40)
+            .map(|i| {
+                let k = (i / 2) as f64;
+                if i % 2 == 0 {
+                    50.0 + k
+                } else {
+                    1.0 + k / 100.0
+                }
+            })
+            .collect();
+        let inputs = Inputs {
+            columns: vec![("chamber".into(), "g".into(), true, x)],
+        };
+        let id = CellId {
+            experiment: 1,
+            kind: CellKind::Without,
+        };
+        let paper = PaperCell {
+            value: 1.1,
+            scatter: 0.1,
+        };
+        let c = cell_summary(&set(), id, 0, &vals, None, Some(&paper), &inputs);
+        // The whole cell spans both modes: u_input ~ 27 nmi bounds nothing about a 1.1 nmi cell.
+        assert_eq!(
+            c.validation.as_ref().map(|v| v.word),
+            Some(VvWord::NotInformative)
+        );
+        assert_eq!(c.by_level.len(), 2, "{:?}", c.by_level);
+        let word = |l: &LevelSummary| l.validation.as_ref().map(|v| v.word);
+        // The stable level: E = -0.005, u_val about 0.12, validated; the ramp level is a model
+        // error of about 58 nmi.
+        assert_eq!(
+            word(&c.by_level[1]),
+            Some(VvWord::Validated),
+            "{:?}",
+            c.by_level[1]
+        );
+        assert_eq!(
+            word(&c.by_level[0]),
+            Some(VvWord::ModelError),
+            "{:?}",
+            c.by_level[0]
+        );
+    }
+
+    #[test]
     fn a_dominant_choice_splits_the_cell_by_level() {
         // Even samples "ramp" at 50 + k, odd ones "stable" at 1 + k / 100 (k = 0..19).
         let x: Vec<f64> = (0..40).map(|i| (i % 2) as f64).collect();
@@ -597,7 +678,10 @@ mod tests {
         let inputs = Inputs {
             columns: vec![("chamber".into(), "g".into(), true, x)],
         };
-        let levels = by_level(&set(), &inputs, Some(&sens(0.9, true)), &vals, 3);
+        let levels: Vec<LevelSummary> = by_level(&set(), &inputs, Some(&sens(0.9, true)), &vals, 3)
+            .into_iter()
+            .map(|l| l.summary)
+            .collect();
         assert_eq!(levels.len(), 2);
         assert_eq!((levels[0].level.as_str(), levels[0].samples), ("ramp", 20));
         assert!((levels[0].median - 59.5).abs() < 1e-9, "{:?}", levels[0]);

@@ -82,7 +82,19 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     ] {
         crate::outputs::check_file_target(path, what)?;
     }
-    crate::outputs::sweep(args.out.parent().unwrap_or(Path::new(".")));
+    let parent = match args.out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    crate::outputs::sweep(parent);
+    sins_config::lock::lock_output(parent, None)?;
+    let unchanged = format!(
+        "the previous {}, {} and {} are unchanged",
+        args.out.display(),
+        history.display(),
+        rrd.display()
+    );
+    sins_config::files::set_interrupt_note(Some(unchanged.clone()));
     let noise = FilterNoise::from_sensor(
         args.gyro_arw_deg_per_sqrt_h * sins_nav::DEG / 60.0,
         gauss_markov_sigma_from_allan(args.gyro_bias_instability_deg_per_h * DEG_PER_H),
@@ -118,20 +130,38 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         result.updates,
         (result.filter_end_s - result.filter_start_s) / 3600.0
     );
+    // The three files are written into a staging directory beside them and moved into place
+    // together once all are complete: an interrupted or failed run leaves the previous ones.
+    let staging = sins_config::files::Temporary::dir(&args.out).with_context(|| {
+        format!(
+            "cannot create a staging directory beside {}",
+            args.out.display()
+        )
+    })?;
+    let names = [&args.out, &history, &rrd].map(|p| {
+        p.file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+    });
+    let staged = |k: usize| staging.path().join(&names[k]);
     write_params(
-        &args.out,
+        staged(0),
         &ParamSet {
             params: result.params,
             sigma: Some(result.sigma),
             description,
         },
-    )?;
-    let curves = write_history(&history, &result, model, args.reference_temperature_degc)?;
+    )
+    .with_context(|| unchanged.clone())?;
+    let curves = write_history(&staged(1), &result, model, args.reference_temperature_degc)
+        .with_context(|| unchanged.clone())?;
     let series: Vec<sins_viz::Series<'_>> = curves
         .iter()
         .map(|(entity, points)| sins_viz::Series { entity, points })
         .collect();
-    sins_viz::write_series(&rrd, "calibration", &series)?;
+    sins_viz::write_series(&staged(2), "calibration", &series)
+        .with_context(|| unchanged.clone())?;
+    sins_config::files::commit_files(staging, &names)
+        .with_context(|| format!("cannot move the new files into place; {unchanged}"))?;
     print_result(&result)?;
     say!(
         "wrote {}, {} and {}",

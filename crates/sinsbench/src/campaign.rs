@@ -104,7 +104,9 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         }
         Step::Reduce { dir } => {
             crate::outputs::sweep(&dir);
-            reduce(&sins_campaign::open(&dir, &context()?)?, &dir)
+            let opened = sins_campaign::open(&dir, &context()?)?;
+            sins_config::lock::lock_output(&dir, None)?;
+            reduce(&opened, &dir)
         }
         Step::Status { dir, missing } => {
             let sins_campaign::Status {
@@ -150,6 +152,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         } => {
             let ctx = context()?;
             plan(&config, &out, &ctx)?;
+            sins_config::lock::lock_output(&out, None)?;
             let opened = sins_campaign::open(&out, &ctx)?;
             let todo = opened.missing()?;
             for s in &todo {
@@ -192,8 +195,23 @@ fn plan(config: &Path, out: &Path, ctx: &Context) -> Result<()> {
     )
 }
 
+/// Reduces into `dir` (whose lock this process holds): summary, report and timing replace the
+/// previous ones together or not at all.
 fn reduce(opened: &Opened, dir: &Path) -> Result<()> {
-    let files = opened.reduce()?;
+    let unchanged = format!(
+        "the previous summary.json, report.md and timing.json in {} are unchanged",
+        dir.display()
+    );
+    sins_config::files::set_interrupt_note(Some(unchanged.clone()));
+    let had_previous = dir.join("summary.json").exists();
+    let files = opened.reduce().map_err(|e| {
+        let e = anyhow::Error::from(e);
+        if had_previous {
+            e.context(format!("campaign not reduced; {unchanged}"))
+        } else {
+            e
+        }
+    })?;
     say!(
         "campaign '{}': reduced {} shards into {} ({})",
         opened.manifest.campaign,

@@ -3,7 +3,7 @@
 
 use crate::argcheck;
 use crate::out::{note, say};
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, anyhow, bail};
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::noise::NoiseSpec;
 use sins_gap::{DiagnoseRequest, diagnose_datasets, write_diagnosis};
@@ -69,19 +69,47 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     };
     let (parent, name) = crate::outputs::output_dir(&args.out, "diagnose")?;
     let set = sins_config::load_params(&args.params)?;
-    let (noise, noise_notes, untrusted) = match &args.noise_from {
-        Some(path) => {
-            let table = sins_config::load_noise(path)?;
+    let config = DiagnoseConfig {
+        candidates: args.candidates.clone(),
+        threads: args.threads,
+        ..DiagnoseConfig::default()
+    };
+    config
+        .candidate_kinds()
+        .map_err(|e| anyhow!("--candidates: {e}"))?;
+    // The inputs are read before the runs are checked, the runs before any work.
+    let noise_file = match &args.noise_from {
+        Some(path) => Some(sins_config::load_noise(path).map_err(|e| match e {
+            sins_config::ConfigError::WrongKind { .. } => anyhow!(
+                "--noise-from {e}; pass it as --params, and give --noise-from a noise.toml \
+                     written by `sinsbench noise` or an experiment file with [imu.noise] (or \
+                     leave --noise-from out to identify the noise from the datasets)"
+            ),
+            e => anyhow!(e),
+        })?),
+        None => None,
+    };
+    check_runs(&datasets, &set.params, &args.params, &config)?;
+    let (noise, noise_notes, untrusted) = match noise_file {
+        Some(table) => {
+            let path = &table.source_path;
             let what = if table.from_noise_file {
                 "noise file"
             } else {
                 "[imu.noise] of experiment"
             };
+            let bound = |v: f64, unit: f64, label: &str| {
+                if v.is_finite() {
+                    format!("{:.3e} {label}", v / unit)
+                } else {
+                    "no finite bound, not fitted".into()
+                }
+            };
             let walks = match table.unresolved_walk_per_sqrt_s {
                 Some([g, a]) => format!(
-                    "; rate random walks it could not exclude, fitted on the gap up to {:.3e} deg/h/√h (gyro) and {:.3} ug/√h (accel)",
-                    g / sins_config::units::DEG_PER_H_PER_SQRT_H,
-                    a / sins_config::units::UG_PER_SQRT_H
+                    "; rate random walks it could not exclude, fitted on the gap within their bounds: gyro {}, accel {}",
+                    bound(g, sins_config::units::DEG_PER_H_PER_SQRT_H, "deg/h/√h"),
+                    bound(a, sins_config::units::UG_PER_SQRT_H, "ug/√h")
                 ),
                 None => String::new(),
             };
@@ -102,7 +130,17 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                 );
             }
             let id = sins_gap::identify_datasets(&datasets, &args.noise_labels, Some(&set.params))
-                .context("no --noise-from was given, so the noise is identified from the data (give --noise-from FILE to use a file instead)")?;
+                .map_err(|e| match e {
+                    // The identification itself failed (too little still data, ...): a noise
+                    // file is then the way on. Data errors name their file and row already.
+                    sins_gap::GapError::Invalid(_) => anyhow!(
+                        "{e}; no --noise-from was given, so the twin's noise is identified from \
+                         the datasets' still stretches: give --noise-from FILE (a noise.toml of \
+                         `sinsbench noise` on longer still data, or an experiment file with \
+                         [imu.noise]) to use a file instead"
+                    ),
+                    e => anyhow!(e),
+                })?;
             let line = crate::noise::one_line(&id);
             let mut notes = vec![format!(
                 "twin noise: identified from the data's stationary segments (sinsbench noise): {line}"
@@ -116,14 +154,6 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     for n in &noise_notes {
         say!("{n}")?;
     }
-    let config = DiagnoseConfig {
-        candidates: args.candidates.clone(),
-        threads: args.threads,
-        ..DiagnoseConfig::default()
-    };
-    config
-        .candidate_kinds()
-        .map_err(|e| anyhow::anyhow!("--candidates: {e}"))?;
     if !quiet {
         note!(
             "diagnose: replaying {} run(s) with {} and fitting the catalogue against the twin",
@@ -163,4 +193,34 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         outcome.replay_s,
         outcome.diagnose_s
     )
+}
+
+/// Every run checked before any work: it opens, it has the temperatures a 42-state set needs,
+/// and it is long enough for the self-alignment and two fit times after it (the least the
+/// diagnosis fits); each refusal names the run, its file and what to do.
+fn check_runs(
+    datasets: &[(String, PathBuf)],
+    params: &sins_imu::ImuErrorParams,
+    params_path: &std::path::Path,
+    config: &DiagnoseConfig,
+) -> Result<()> {
+    let align_s = config.replay.alignment.duration_s;
+    let min_s = align_s + 2.0 * config.fit_interval_s as f64;
+    for (name, path) in datasets {
+        let info = argcheck::open_run(name, path)?;
+        argcheck::require_temperatures(name, path, &info, params, params_path, "")?;
+        let duration_s = info.n_rows as f64 * info.meta.sample_interval_s();
+        if duration_s < min_s {
+            bail!(
+                "run '{name}' ({}): {} samples ({duration_s:.2} s), but diagnose replays every \
+                 run from a {align_s:.0} s self-alignment at its start (the IMU still) and fits \
+                 the navigation after it every {} s, at least twice: give a recording of at \
+                 least {min_s:.0} s, or leave this run out",
+                path.display(),
+                info.n_rows,
+                config.fit_interval_s
+            );
+        }
+    }
+    Ok(())
 }

@@ -31,6 +31,25 @@ pub struct Args {
     /// Directory of the report when --config runs one.
     #[arg(long, default_value = "reports")]
     pub reports_dir: PathBuf,
+    /// Or: compare a candidate release with this baseline, each a `reports` campaign of the
+    /// same report configuration over N sensor-noise seeds (`noise_seeds = N` in the campaign
+    /// file; its directory or its summary.json). Per experiment and parameter set, the shift
+    /// of the maximum horizontal error (Hodges-Lehmann, with a distribution-free Mann-Whitney
+    /// bound) fails the gate when the candidate is worse than --margin-percent at
+    /// --confidence. Needs --candidate.
+    #[arg(long, requires = "candidate", conflicts_with_all = ["summary", "config", "thresholds"])]
+    pub baseline: Option<PathBuf>,
+    /// The candidate release's `reports` campaign (directory or summary.json), for --baseline.
+    #[arg(long, requires = "baseline")]
+    pub candidate: Option<PathBuf>,
+    /// Largest tolerated worsening of a cell, in percent of the baseline's median (--baseline).
+    #[arg(long, default_value_t = 10.0)]
+    pub margin_percent: f64,
+    /// Family-wise confidence over the cells that a failed cell is worse than the margin
+    /// (--baseline): a release that differs only in its noise seeds fails with probability at
+    /// most 1 - confidence.
+    #[arg(long, default_value_t = 0.95)]
+    pub confidence: f64,
 }
 
 /// The gate found thresholds exceeded (exit code 1; errors exit with 2). A JUnit report that
@@ -60,6 +79,9 @@ fn junit_note(e: &Option<String>) -> String {
 /// written, and a report that cannot be written leaves a failed gate at exit 1 (a passed one
 /// exits 2: its report is missing).
 pub fn run(args: Args, quiet: bool) -> Result<()> {
+    if let (Some(b), Some(c)) = (&args.baseline, &args.candidate) {
+        return run_baseline(&args, b, c);
+    }
     let (thresholds_path, report) = thresholds_and_report(&args)?;
     let thresholds = load_thresholds(&thresholds_path)?;
     let mut inputs = vec![("thresholds", thresholds_path.clone())];
@@ -91,6 +113,47 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         .junit
         .as_ref()
         .and_then(|j| write_junit(j, &summary.name, &checks).err());
+    verdict(&checks, junit_error)
+}
+
+/// `gate --baseline B --candidate C`: the shift of every cell against the run-to-run spread
+/// ([`sins_harness::baseline`]); the same lines, JUnit report and exit codes as the thresholds.
+fn run_baseline(args: &Args, baseline: &Path, candidate: &Path) -> Result<()> {
+    let inputs = vec![
+        ("baseline", baseline.to_path_buf()),
+        ("candidate", candidate.to_path_buf()),
+    ];
+    if let Some(j) = &args.junit {
+        check_junit_target(j, &inputs)?;
+    }
+    let base = sins_config::read_report_list(baseline)?;
+    let cand = sins_config::read_report_list(candidate)?;
+    let rule = sins_harness::baseline::BaselineRule {
+        margin_percent: args.margin_percent,
+        confidence: args.confidence,
+    };
+    let (_, checks) = sins_harness::baseline::compare(&base, &cand, &rule).map_err(|e| {
+        anyhow!(
+            "gate --baseline {} --candidate {}: {e}",
+            baseline.display(),
+            candidate.display()
+        )
+    })?;
+    for c in &checks {
+        say!("{} {}", if c.passed { "PASS" } else { "FAIL" }, c.message)?;
+    }
+    let name = base.first().map_or("", |s| s.name.as_str());
+    let suite = format!("{name} against its baseline");
+    let junit_error = args
+        .junit
+        .as_ref()
+        .and_then(|j| write_junit(j, &suite, &checks).err());
+    verdict(&checks, junit_error)
+}
+
+/// Exit 1 with [`GateFailed`] when a check failed, 2 when the JUnit report asked for is
+/// missing, else say that the gate passed.
+fn verdict(checks: &[Check], junit_error: Option<anyhow::Error>) -> Result<()> {
     let failed = checks.iter().filter(|c| !c.passed).count();
     if failed > 0 {
         return Err(GateFailed {

@@ -162,6 +162,9 @@ fn main() -> std::process::ExitCode {
         Command::Campaign(a) => campaign::run(a, cli.quiet),
         Command::ReadDataset { file } => bench_import::read_dataset(&file),
     };
+    // The output locks go with the process; their files go now (a run killed with SIGKILL
+    // leaves its lock file, which blocks nothing).
+    sins_config::lock::release_all();
     if cli.stats {
         stats::print(started.elapsed());
     }

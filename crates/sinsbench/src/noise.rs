@@ -49,7 +49,8 @@ fn fig(e: &Estimate, per_unit: f64, digits: usize) -> String {
     let v = e.value / per_unit;
     if e.value == 0.0 {
         return match e.upper_95 {
-            Some(u) => format!("0 (< {:.*} at 95 %)", digits, u / per_unit),
+            Some(u) if u.is_finite() => format!("0 (< {:.*} at 95 %)", digits, u / per_unit),
+            Some(_) => "0 (no finite 95 % bound: too little still data)".into(),
             None => "0".into(),
         };
     }
@@ -330,10 +331,14 @@ fn write_outputs(
             comments.push(format!("note: {n}"));
         }
         for (what, s) in [("gyro", &id.gyro), ("accel", &id.accel)] {
-            if let Some(u) = s.bias_instability.upper_95 {
-                comments.push(format!(
+            match s.bias_instability.upper_95 {
+                Some(u) if u.is_finite() => comments.push(format!(
                     "{what} bias instability fitted 0: 95 % upper bound {u:e} (SI)"
-                ));
+                )),
+                Some(_) => comments.push(format!(
+                    "{what} bias instability fitted 0: the data put no finite 95 % upper bound on it"
+                )),
+                None => {}
             }
         }
         let description = format!(
@@ -349,6 +354,15 @@ fn write_outputs(
             &comments,
             &id.inconsistent,
         );
+        // What `diagnose --noise-from` will read: checked with its own reader before anything
+        // is written (the whole set is then left unwritten).
+        sins_config::parse_noise_file(&toml, &parent.join(name).join("noise.toml")).map_err(
+            |e| {
+                ReportError::Mismatch(format!(
+                    "the noise file would not read back with `diagnose --noise-from` ({e}); nothing written (a bug: please report it with the datasets)"
+                ))
+            },
+        )?;
         sins_report::write_bytes(&dir.join("noise.toml"), toml.as_bytes())?;
         let png = plot(id).map_err(|e| mismatch("Allan plot", &e))?;
         sins_report::write_bytes(&dir.join("allan.png"), &png)?;
@@ -394,7 +408,25 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     }
     let started = Instant::now();
     let set = match &args.params {
-        Some(p) => Some(sins_config::load_params(p)?),
+        Some(p) => {
+            let set = sins_config::load_params(p)?;
+            // A 42-state set compensates with the temperatures: a run without them is refused
+            // here, in diagnose's words, not identified from NaN increments.
+            if set.params.model == sins_imu::ParamModel::States42 {
+                for (name, path) in &datasets {
+                    let info = crate::argcheck::open_run(name, path)?;
+                    crate::argcheck::require_temperatures(
+                        name,
+                        path,
+                        &info,
+                        &set.params,
+                        p,
+                        ", or leave --params out",
+                    )?;
+                }
+            }
+            Some(set)
+        }
         None => None,
     };
     let cfg = sins_noiseid::NoiseIdConfig {

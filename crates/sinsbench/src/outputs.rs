@@ -26,6 +26,8 @@ pub fn install() -> Result<()> {
             if let Some(sig) = signals.forever().next() {
                 let name = if sig == SIGINT { "SIGINT" } else { "SIGTERM" };
                 note!("{name}: stopping; this run's temporary files are removed");
+                // Says what the interrupted command leaves unchanged (when it set a note) and
+                // releases the output locks.
                 sins_config::files::remove_temporaries_and_exit(128 + sig);
             }
         })
@@ -73,8 +75,9 @@ pub fn create_dir_target(dir: &Path, what: &str) -> Result<()> {
 }
 
 /// The parent and name of an output directory `--out` of command `kind`, after sweeping the
-/// parent's stale temporaries and checking that `out` is absent or a previous output of
-/// `kind` (a user's directory is never replaced).
+/// parent's stale temporaries, checking that `out` is absent or a previous output of `kind` (a
+/// user's directory is never replaced) and taking the lock of `out` for the rest of the process
+/// (`PARENT/.NAME.sinsbench.lock`: a second writer of the same output is refused).
 pub fn output_dir(out: &Path, kind: &str) -> Result<(PathBuf, String)> {
     let parent = out.parent().map_or(PathBuf::from("."), PathBuf::from);
     let name = out
@@ -83,5 +86,6 @@ pub fn output_dir(out: &Path, kind: &str) -> Result<(PathBuf, String)> {
         .context("--out must name a directory")?;
     sweep(&parent);
     sins_report::check_output_dir(&parent, &name, kind)?;
+    sins_config::lock::lock_output(&parent, Some(&name))?;
     Ok((parent, name))
 }

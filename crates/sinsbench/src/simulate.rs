@@ -113,10 +113,8 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             sins_report::estimated_dataset_bytes(n_rows, reference, csv)
         })
         .fold(0u64, u64::saturating_add);
-    sins_report::check_output_space(&out, needed, output_limit_bytes(&args)?)?;
-    std::fs::create_dir_all(&out)
-        .with_context(|| format!("cannot create output directory {}", out.display()))?;
     for name in &args.runs {
+        sins_config::run_name(name).map_err(|e| anyhow::anyhow!("--run: {e}"))?;
         if !experiment.scenarios.iter().any(|s| &s.name == name) {
             let known: Vec<_> = experiment
                 .scenarios
@@ -130,6 +128,18 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             );
         }
     }
+    sins_report::check_output_space(&out, needed, output_limit_bytes(&args)?)?;
+    std::fs::create_dir_all(&out)
+        .with_context(|| format!("cannot create output directory {}", out.display()))?;
+    sins_config::lock::lock_output(&out, None)?;
+    // Every run is written into a staging directory inside OUT and the whole set is moved into
+    // place at the end: an interrupted or failed run leaves the previous datasets as they were.
+    let staging = sins_config::files::Temporary::dir(&out.join("simulate"))
+        .with_context(|| format!("cannot create a staging directory in {}", out.display()))?;
+    let unchanged = format!("the previous datasets in {} are unchanged", out.display());
+    sins_config::files::set_interrupt_note(Some(unchanged.clone()));
+    let mut names = Vec::new();
+    let mut lines = Vec::new();
     for scenario in &experiment.scenarios {
         if !args.runs.is_empty() && !args.runs.contains(&scenario.name) {
             continue;
@@ -140,15 +150,31 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         }
         scenario.with_reference |= args.reference;
         scenario.effects.extend(extra.iter().cloned());
-        let file = out.join(format!("{}.{}", scenario.name, args.format.extension()));
-        let summary = simulate_one(&experiment.name, &scenario, &file, quiet)?;
-        say!(
+        let name = format!("{}.{}", scenario.name, args.format.extension());
+        let summary = simulate_one(
+            &experiment.name,
+            &scenario,
+            &staging.path().join(&name),
+            quiet,
+        )
+        .with_context(|| format!("run '{}' failed; {unchanged}", scenario.name))?;
+        lines.push(format!(
             "{}: {} samples, {:.2} h, {:.1} MB",
-            summary.path.display(),
+            out.join(&name).display(),
             summary.n_rows,
             summary.n_rows as f64 / scenario.rate_hz / 3600.0,
             summary.n_bytes as f64 / 1e6
-        )?;
+        ));
+        names.push(name);
+    }
+    sins_config::files::commit_files(staging, &names).with_context(|| {
+        format!(
+            "cannot move the new datasets into {}; {unchanged}",
+            out.display()
+        )
+    })?;
+    for line in &lines {
+        say!("{line}")?;
     }
     Ok(())
 }

@@ -203,7 +203,7 @@ fn a_reports_campaign_writes_the_reports_report_writes() {
     assert_eq!(summary["reports"][1]["name"], "other");
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(
-        md.contains("| truth | cal | set |") && md.contains("| other | cal | none |"),
+        md.contains("| truth | - | cal | set |") && md.contains("| other | - | cal | none |"),
         "{md}"
     );
     let dup = tmp.path().join("dup.toml");

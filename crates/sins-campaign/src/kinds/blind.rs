@@ -141,6 +141,7 @@ impl Work for BlindWork {
         &self,
         outcomes: Vec<serde_json::Value>,
         dir: &Path,
+        out: &Path,
     ) -> Result<Vec<String>, CampaignError> {
         let diagnoses: Vec<Diagnosis> = from_values(outcomes)?;
         let index = Self::read_index(dir)?;
@@ -157,8 +158,8 @@ impl Work for BlindWork {
             suite_sha256: &index.suite_sha256,
             grades: &grades,
         };
-        write_text(dir, "summary.json", &pretty(&summary)?)?;
-        write_text(dir, "report.md", &markdown)?;
+        write_text(out, "summary.json", &pretty(&summary)?)?;
+        write_text(out, "report.md", &markdown)?;
         Ok(vec!["summary.json".into(), "report.md".into()])
     }
 }

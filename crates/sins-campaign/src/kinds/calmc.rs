@@ -87,12 +87,13 @@ impl Work for CalMcWork {
     fn reduce(
         &self,
         outcomes: Vec<serde_json::Value>,
-        dir: &Path,
+        _dir: &Path,
+        out: &Path,
     ) -> Result<Vec<String>, CampaignError> {
         let outcomes: Vec<McRunOutcome> = from_values(outcomes)?;
         let study = self.mc.assemble(&outcomes).map_err(|e| job_error(0, e))?;
-        write_text(dir, "summary.json", &pretty(&study)?)?;
-        write_text(dir, "report.md", &render_table1_markdown(&study))?;
+        write_text(out, "summary.json", &pretty(&study)?)?;
+        write_text(out, "report.md", &render_table1_markdown(&study))?;
         Ok(vec!["summary.json".into(), "report.md".into()])
     }
 }

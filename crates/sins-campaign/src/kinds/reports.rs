@@ -1,6 +1,8 @@
 //! `reports`: a list of report configurations (many IMUs, many releases), one job per
-//! configuration. Each job writes its full report under `DIR/reports/<name>/`; the reduce
-//! gathers every configuration's Table 5 cells into one table.
+//! configuration, or with `noise_seeds = N` one job per configuration and sensor-noise seed
+//! (1..=N: the run-to-run spread a release gate compares against). Each job writes its full
+//! report under `DIR/reports/<name>/` (`<name>-seed<k>` with noise seeds); the reduce gathers
+//! every report's Table 5 cells into one table and its summaries into `summary.json`.
 
 use crate::CampaignError;
 use crate::spec::{Campaign, Kind};
@@ -17,6 +19,8 @@ use std::path::Path;
 /// A list of reports as campaign work.
 pub struct ReportsWork {
     configs: Vec<ReportConfig>,
+    /// Noise seeds per configuration (0: the files' own seeds, one job each).
+    noise_seeds: u64,
     fingerprint: String,
 }
 
@@ -29,7 +33,11 @@ impl ReportsWork {
     /// Loads every configuration of a `reports` campaign; names must differ (each report
     /// has its own directory).
     pub fn new(c: &Campaign) -> Result<Self, CampaignError> {
-        let Kind::Reports { configs } = &c.kind else {
+        let Kind::Reports {
+            configs,
+            noise_seeds,
+        } = &c.kind
+        else {
             return Err(job_error(0, "not a reports campaign"));
         };
         let mut loaded: Vec<ReportConfig> = Vec::new();
@@ -53,50 +61,71 @@ impl ReportsWork {
             let _ = write!(fingerprint, "{text}\n{cfg:?}\n");
             loaded.push(cfg);
         }
+        let noise_seeds = noise_seeds.unwrap_or(0);
+        let _ = write!(fingerprint, "noise_seeds {noise_seeds}\n");
         Ok(Self {
             configs: loaded,
+            noise_seeds,
             fingerprint,
         })
     }
 }
 
+impl ReportsWork {
+    /// Job `job`'s configuration, with its noise seed set and its name made its own.
+    fn job_config(&self, job: usize) -> Option<ReportConfig> {
+        let per = self.noise_seeds.max(1) as usize;
+        let mut cfg = self.configs.get(job / per)?.clone();
+        if self.noise_seeds > 0 {
+            let seed = (job % per) as u64 + 1;
+            cfg.noise_seed = Some(seed);
+            cfg.name = format!("{}-seed{seed}", cfg.name);
+        }
+        Some(cfg)
+    }
+}
+
 impl Work for ReportsWork {
     fn jobs(&self) -> usize {
-        self.configs.len()
+        self.configs.len() * self.noise_seeds.max(1) as usize
     }
     fn fingerprint(&self) -> String {
         self.fingerprint.clone()
     }
     fn job_label(&self, job: usize) -> String {
-        self.configs
-            .get(job)
+        self.job_config(job)
             .map_or_else(String::new, |c| c.name.clone())
     }
     fn run_job(&self, job: usize, dir: &Path) -> Result<serde_json::Value, CampaignError> {
         let cfg = self
-            .configs
-            .get(job)
+            .job_config(job)
             .ok_or_else(|| job_error(job, "out of range"))?;
-        let run = sins_report::run_report(cfg, &mut Quiet).map_err(|e| job_error(job, e))?;
+        let mut run = sins_report::run_report(&cfg, &mut Quiet).map_err(|e| job_error(job, e))?;
         let reports = dir.join("reports");
         std::fs::create_dir_all(&reports).map_err(|e| CampaignError::io(&reports, e))?;
         sins_report::write_report(&reports, &run).map_err(|e| job_error(job, e))?;
+        // The summary keeps the configuration's own name: a gate compares reports of one
+        // configuration over noise seeds (each seed's report has its own directory).
+        if let Some(base) = self.configs.get(job / self.noise_seeds.max(1) as usize) {
+            run.summary.name = base.name.clone();
+        }
         to_value(job, &run.summary)
     }
     fn reduce(
         &self,
         outcomes: Vec<serde_json::Value>,
-        dir: &Path,
+        _dir: &Path,
+        out: &Path,
     ) -> Result<Vec<String>, CampaignError> {
         let summaries: Vec<Summary> = from_values(outcomes)?;
         write_text(
-            dir,
+            out,
             "summary.json",
             &pretty(&ReportsSummary {
                 reports: &summaries,
             })?,
         )?;
-        write_text(dir, "report.md", &markdown(&summaries))?;
+        write_text(out, "report.md", &markdown(&summaries))?;
         Ok(vec!["summary.json".into(), "report.md".into()])
     }
 }
@@ -105,6 +134,7 @@ impl Work for ReportsWork {
 fn markdown(summaries: &[Summary]) -> String {
     let mut t = Table::new([
         "report",
+        "noise seed",
         "experiment",
         "parameter set",
         "max horizontal (nmi)",
@@ -112,7 +142,7 @@ fn markdown(summaries: &[Summary]) -> String {
         "segment",
         "improvement (%)",
     ])
-    .align(&[Left, Left, Left, Right, Right, Left, Right]);
+    .align(&[Left, Right, Left, Left, Right, Right, Left, Right]);
     for s in summaries {
         for e in &s.experiments {
             let imp = e
@@ -121,6 +151,7 @@ fn markdown(summaries: &[Summary]) -> String {
             for (key, r) in &e.results {
                 t.row([
                     s.name.clone(),
+                    s.noise_seed.map_or_else(|| "-".into(), |k| k.to_string()),
                     e.name.clone(),
                     key.clone(),
                     format!("{:.3}", r.max_horizontal_nmi),

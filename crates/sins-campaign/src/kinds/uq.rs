@@ -128,11 +128,12 @@ impl Work for UqWork {
     fn reduce(
         &self,
         outcomes: Vec<serde_json::Value>,
-        dir: &Path,
+        _dir: &Path,
+        out: &Path,
     ) -> Result<Vec<String>, CampaignError> {
         let outcomes: Vec<SampleOutcome> = from_values(outcomes)?;
         let summary = sins_uq::summary::summarize(&self.study.set, &outcomes, &self.study.paper)
             .map_err(|e| job_error(0, e))?;
-        write_uq_outputs(dir, &summary).map_err(|e| job_error(0, e))
+        write_uq_outputs(out, &summary).map_err(|e| job_error(0, e))
     }
 }

@@ -10,7 +10,7 @@ mod table5;
 mod thresholds;
 
 pub use report_config::load_report_config;
-pub use summary::{read_summary, summary_to_json};
+pub use summary::{read_report_list, read_summary, summary_to_json};
 pub use table5::load_table5;
 pub use thresholds::load_thresholds;
 

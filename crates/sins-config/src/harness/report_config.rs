@@ -122,6 +122,7 @@ fn build(f: File, path: &Path) -> Result<ReportConfig, String> {
         gate: f.gate.as_deref().map(|p| dir.join(p)),
         uq: f.uq.as_deref().map(|p| dir.join(p)),
         replay,
+        noise_seed: None,
     })
 }
 
@@ -185,12 +186,18 @@ fn param_origin(s: &ParamSetFile, at: &str, dir: &Path) -> Result<ParamOrigin, S
 fn navigation(n: &NavigationFile, dir: &Path) -> Result<NavigationSource, String> {
     match (&n.experiment, n.dataset.is_empty()) {
         (Some(e), true) => Ok(NavigationSource::Experiment(dir.join(e))),
-        (None, false) => Ok(NavigationSource::Datasets(
-            n.dataset
-                .iter()
-                .map(|d| (d.name.clone(), dir.join(&d.path)))
-                .collect(),
-        )),
+        (None, false) => {
+            for (i, d) in n.dataset.iter().enumerate() {
+                crate::names::run_name(&d.name)
+                    .map_err(|e| format!("navigation.dataset[{i}].name: {e}"))?;
+            }
+            Ok(NavigationSource::Datasets(
+                n.dataset
+                    .iter()
+                    .map(|d| (d.name.clone(), dir.join(&d.path)))
+                    .collect(),
+            ))
+        }
         _ => Err(
             "[navigation]: give exactly one of 'experiment = \"...\"' and [[navigation.dataset]] entries"
                 .into(),

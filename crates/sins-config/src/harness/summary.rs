@@ -22,6 +22,40 @@ pub fn read_summary(path: &Path) -> Result<Summary, HarnessError> {
     Ok(s)
 }
 
+/// Read the reports of a `reports` campaign (its `summary.json`, `{"reports": [...]}`, or the
+/// campaign directory that holds it), each checked as [`read_summary`] checks one; a single
+/// report's `summary.json` reads as a list of one. Errors name the file and the report.
+pub fn read_report_list(path: &Path) -> Result<Vec<Summary>, HarnessError> {
+    let file = if path.is_dir() {
+        path.join("summary.json")
+    } else {
+        path.to_path_buf()
+    };
+    let text = read_text(&file)?;
+    #[derive(serde::Deserialize)]
+    struct List {
+        reports: Vec<Summary>,
+    }
+    let list = match serde_json::from_str::<List>(&text) {
+        Ok(l) => l.reports,
+        Err(list_error) => match serde_json::from_str::<Summary>(&text) {
+            Ok(one) => vec![one],
+            Err(_) => {
+                return Err(malformed(
+                    &file,
+                    format!(
+                        "neither a `reports` campaign's summary nor a report's summary:                          {list_error}"
+                    ),
+                ));
+            }
+        },
+    };
+    for (i, s) in list.iter().enumerate() {
+        check_summary(s).map_err(|m| malformed(&file, format!("reports[{i}]: {m}")))?;
+    }
+    Ok(list)
+}
+
 /// The layout version is this build's and every maximum horizontal error is a finite number of
 /// nautical miles >= 0; the message names the field.
 fn check_summary(s: &Summary) -> Result<(), String> {

@@ -4,9 +4,13 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// The sinsbench binary under test.
+/// The sinsbench binary under test; `SINSBENCH_TEST_BIN` names another one (e.g. a build from
+/// before a fix, to see a test fail against it).
 pub fn exe() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_sinsbench"))
+    match std::env::var_os("SINSBENCH_TEST_BIN") {
+        Some(bin) => Command::new(bin),
+        None => Command::new(env!("CARGO_BIN_EXE_sinsbench")),
+    }
 }
 
 /// Run the binary with `args` and `--quiet` (no progress bars), capturing its output.
@@ -117,4 +121,157 @@ pub fn assert_refused(o: &std::process::Output, needles: &[&str]) -> String {
         assert!(err.contains(n), "'{n}' missing from:\n{err}");
     }
     err
+}
+
+/// The paper's three navigation runs (`nav1`, `nav2`, `nav3`, seeds 101-103) with every segment
+/// scaled down: the stationary start `stationary_s` (alignment included), each vibration
+/// pattern `pattern_s` and each stationary stretch between them `between_s`. Written into
+/// `dir` as `name`; returns its path.
+pub fn short_navigation_experiment(
+    dir: &Path,
+    name: &str,
+    stationary_s: f64,
+    pattern_s: f64,
+    between_s: f64,
+) -> PathBuf {
+    let exp_dir = experiments();
+    let text = std::fs::read_to_string(exp_dir.join("paper_navigation.toml")).unwrap();
+    let align = (stationary_s / 2.0).min(1200.0);
+    let text = text
+        .replace("\"imu/", &format!("\"{}/imu/", exp_dir.display()))
+        .replace("\"schemes/", &format!("\"{}/schemes/", exp_dir.display()))
+        .replacen(
+            "duration_s = 1200.0",
+            &format!("duration_s = {align:.1}"),
+            1,
+        )
+        .replacen(
+            "duration_s = 16800.0",
+            &format!("duration_s = {:.1}", stationary_s - align),
+            1,
+        )
+        .replace(
+            "duration_s = 9600.0",
+            &format!("duration_s = {pattern_s:.1}"),
+        )
+        .replacen(
+            "duration_h = 1.0\nlabel",
+            &format!("duration_s = {between_s:.1}\nlabel"),
+            2,
+        );
+    let exp = dir.join(name);
+    std::fs::write(&exp, text).unwrap();
+    exp
+}
+
+/// Whether this process runs as root (the full-disk tests mount a tmpfs).
+pub fn is_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+}
+
+/// A small tmpfs mounted for a test, unmounted when dropped (also when the test panics).
+pub struct Tmpfs {
+    /// The mount point.
+    pub path: PathBuf,
+    _holder: tempfile::TempDir,
+}
+
+impl Tmpfs {
+    /// Mounts a tmpfs of `size` (`mount -t tmpfs -o size=SIZE`), or says why not (not root, no
+    /// permission to mount).
+    pub fn mount(size: &str) -> Result<Self, String> {
+        if !is_root() {
+            return Err("not running as root".into());
+        }
+        let holder = tempfile::tempdir().map_err(|e| e.to_string())?;
+        let path = holder.path().join("fs");
+        std::fs::create_dir(&path).map_err(|e| e.to_string())?;
+        let o = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+            .arg(&path)
+            .output()
+            .map_err(|e| e.to_string())?;
+        if !o.status.success() {
+            return Err(format!(
+                "mount failed: {}",
+                String::from_utf8_lossy(&o.stderr).trim()
+            ));
+        }
+        Ok(Self {
+            path,
+            _holder: holder,
+        })
+    }
+
+    /// Fills the file system with `filler` until it is full, then gives back `leave` bytes
+    /// (rounded to pages by tmpfs). Returns the filler's size.
+    pub fn fill(&self, filler: &Path, leave: u64) -> u64 {
+        use std::io::Write;
+        let mut f = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(filler)
+            .unwrap();
+        let chunk = vec![0x5a_u8; 64 * 1024];
+        loop {
+            match f.write(&chunk) {
+                Ok(0) => break,
+                Ok(_) => {}
+                Err(e) if e.raw_os_error() == Some(28) => break,
+                Err(e) => panic!("filling {}: {e}", filler.display()),
+            }
+        }
+        // Single bytes up to the last page.
+        while f.write(&[0x5a]).is_ok_and(|n| n == 1) {}
+        let len = f.metadata().unwrap().len();
+        let keep = len.saturating_sub(leave);
+        f.set_len(keep).unwrap();
+        keep
+    }
+}
+
+impl Drop for Tmpfs {
+    fn drop(&mut self) {
+        let o = Command::new("umount").arg(&self.path).output();
+        if !o.as_ref().is_ok_and(|o| o.status.success()) {
+            let _ = Command::new("umount").arg("-l").arg(&self.path).output();
+        }
+    }
+}
+
+/// Every file directly in `dir`: name and bytes; hidden names (temporaries) are left out, and so
+/// are the output marker and lock files.
+pub fn visible_files(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    let mut m = std::collections::BTreeMap::new();
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        for e in entries.flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            if !name.starts_with('.') && e.file_type().is_ok_and(|t| t.is_file()) {
+                m.insert(name, std::fs::read(e.path()).unwrap());
+            }
+        }
+    }
+    m
+}
+
+/// Hidden entries of `dir` that are neither the output marker nor a lock file: temporaries or
+/// staging directories left behind.
+pub fn leftovers(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .map(|r| {
+            r.flatten()
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .filter(|n| {
+                    n.starts_with('.')
+                        && n != ".sinsbench-output"
+                        && !sins_config::lock::is_lock_file(n)
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
 }
