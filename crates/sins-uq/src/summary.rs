@@ -612,9 +612,8 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_bimodal_cell_is_compared_with_the_paper_level_by_level() {
-        // "ramp" near 60 nmi, "stable" near 1.1 nmi; the paper says 1.1 ± 0.1.
+    /// Even samples "ramp" at 50 + k nmi, odd ones "stable" at 1 + k / 100 (k = 0..19).
+    fn bimodal() -> (Inputs, Vec<f64>) {
         let x: Vec<f64> = (0..40).map(|i| (i % 2) as f64).collect();
         let vals: Vec<f64> = (0..40)
             .map(|i| {
@@ -629,6 +628,13 @@ mod tests {
         let inputs = Inputs {
             columns: vec![("chamber".into(), "g".into(), true, x)],
         };
+        (inputs, vals)
+    }
+
+    #[test]
+    fn a_bimodal_cell_is_compared_with_the_paper_level_by_level() {
+        // "ramp" near 60 nmi, "stable" near 1.1 nmi; the paper says 1.1 ± 0.1.
+        let (inputs, vals) = bimodal();
         let id = CellId {
             experiment: 1,
             kind: CellKind::Without,
@@ -663,21 +669,7 @@ mod tests {
 
     #[test]
     fn a_dominant_choice_splits_the_cell_by_level() {
-        // Even samples "ramp" at 50 + k, odd ones "stable" at 1 + k / 100 (k = 0..19).
-        let x: Vec<f64> = (0..40).map(|i| (i % 2) as f64).collect();
-        let vals: Vec<f64> = (0..40)
-            .map(|i| {
-                let k = (i / 2) as f64;
-                if i % 2 == 0 {
-                    50.0 + k
-                } else {
-                    1.0 + k / 100.0
-                }
-            })
-            .collect();
-        let inputs = Inputs {
-            columns: vec![("chamber".into(), "g".into(), true, x)],
-        };
+        let (inputs, vals) = bimodal();
         let levels: Vec<LevelSummary> = by_level(&set(), &inputs, Some(&sens(0.9, true)), &vals, 3)
             .into_iter()
             .map(|l| l.summary)

@@ -7,25 +7,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
 
 mod common;
-use common::{assert_refused, csv_without_temperatures, experiments, run, s};
-use std::path::{Path, PathBuf};
+use common::{assert_refused, csv_without_temperatures, experiments, ideal30, run, s};
 use std::time::{Duration, Instant};
-
-/// A 30-state set with every coefficient zero (the ideal IMU without its temperature table).
-fn ideal30(dir: &Path) -> PathBuf {
-    let ideal = std::fs::read_to_string(experiments().join("imu/ideal.toml")).unwrap();
-    let head = ideal
-        .split("[accel_temperature]")
-        .next()
-        .unwrap_or_default();
-    let p = dir.join("ideal30.toml");
-    std::fs::write(
-        &p,
-        head.replace("model = \"42-state\"", "model = \"30-state\""),
-    )
-    .unwrap();
-    p
-}
 
 /// The message after `error: ` on stderr.
 fn error_line(o: &std::process::Output) -> String {

@@ -7,24 +7,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
 
 mod common;
-use common::{csv_without_temperatures, experiments, run, s};
-use std::path::{Path, PathBuf};
-
-/// A 30-state set with every coefficient zero (the ideal IMU without its temperature table).
-fn ideal30(dir: &Path) -> PathBuf {
-    let ideal = std::fs::read_to_string(experiments().join("imu/ideal.toml")).unwrap();
-    let head = ideal
-        .split("[accel_temperature]")
-        .next()
-        .unwrap_or_default();
-    let p = dir.join("ideal30.toml");
-    std::fs::write(
-        &p,
-        head.replace("model = \"42-state\"", "model = \"30-state\""),
-    )
-    .unwrap();
-    p
-}
+use common::{csv_without_temperatures, ideal30, run, s};
+use std::path::Path;
 
 /// A level, still IMU at 100 Hz without temperature columns, `seconds` long, with white noise
 /// on every channel (1e-8 rad and 1e-6 m/s per increment; a fixed xorshift seed).

@@ -275,3 +275,19 @@ pub fn leftovers(dir: &Path) -> Vec<String> {
     v.sort();
     v
 }
+
+/// A 30-state set with every coefficient zero (the ideal IMU without its temperature table).
+pub fn ideal30(dir: &Path) -> PathBuf {
+    let ideal = std::fs::read_to_string(experiments().join("imu/ideal.toml")).unwrap();
+    let head = ideal
+        .split("[accel_temperature]")
+        .next()
+        .unwrap_or_default();
+    let p = dir.join("ideal30.toml");
+    std::fs::write(
+        &p,
+        head.replace("model = \"42-state\"", "model = \"30-state\""),
+    )
+    .unwrap();
+    p
+}
