@@ -186,12 +186,7 @@ fn one_configuration<'a>(list: &'a [Summary], side: &str) -> Result<&'a Summary,
 fn median(v: &[f64]) -> f64 {
     let mut s = v.to_vec();
     s.sort_by(f64::total_cmp);
-    let n = s.len();
-    match n {
-        0 => f64::NAN,
-        _ if n % 2 == 1 => s[n / 2],
-        _ => 0.5 * (s[n / 2 - 1] + s[n / 2]),
-    }
+    crate::shift::median_of_sorted(&s)
 }
 
 /// Every (experiment, parameter set) of a summary, in order.

@@ -40,11 +40,7 @@ pub fn shift(baseline: &[f64], candidate: &[f64], alpha: f64) -> Option<Shift> {
         .collect();
     d.sort_by(f64::total_cmp);
     let nm = d.len();
-    let estimate = if nm % 2 == 1 {
-        d[nm / 2]
-    } else {
-        0.5 * (d[nm / 2 - 1] + d[nm / 2])
-    };
+    let estimate = median_of_sorted(&d);
     let k = bound_rank(n, m, alpha);
     let (lower, upper) = if k == 0 {
         (f64::NEG_INFINITY, f64::INFINITY)
@@ -56,6 +52,16 @@ pub fn shift(baseline: &[f64], candidate: &[f64], alpha: f64) -> Option<Shift> {
         lower,
         upper,
     })
+}
+
+/// The median of values sorted in increasing order (NaN when there are none).
+pub fn median_of_sorted(sorted: &[f64]) -> f64 {
+    let n = sorted.len();
+    match n {
+        0 => f64::NAN,
+        _ if n % 2 == 1 => sorted[n / 2],
+        _ => 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]),
+    }
 }
 
 /// The largest `k` with `P(U ≤ k − 1) ≤ alpha` under no shift (0 when even `P(U = 0)`
