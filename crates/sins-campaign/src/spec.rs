@@ -36,6 +36,14 @@ pub enum Kind {
         outside: usize,
         /// Cases with an effect local in time, drawn after the `cases` others.
         time_local: usize,
+        /// Cases of the widened time-local draw (shapes outside the scan's own, one run, every
+        /// navigation run or the calibration run only), drawn after those.
+        wide_time_local: usize,
+        /// Cases with a temperature-driven effect whose runs have different chamber
+        /// histories, drawn last.
+        different_histories: usize,
+        /// The navigation experiment of those cases.
+        histories_experiment: PathBuf,
         /// The twin's noise identified from each case's datasets, not the noise file.
         identified_noise: bool,
         /// Navigation runs recorded per case.
@@ -112,6 +120,9 @@ struct BlindFile {
     null: Option<usize>,
     outside: Option<usize>,
     time_local: Option<usize>,
+    wide_time_local: Option<usize>,
+    different_histories: Option<usize>,
+    histories_experiment: Option<String>,
     identified_noise: Option<bool>,
     runs: Option<Vec<String>>,
     calibration_experiment: Option<String>,
@@ -216,6 +227,12 @@ pub fn parse_campaign(
                 null: b.null.unwrap_or(5),
                 outside: b.outside.unwrap_or(3),
                 time_local: b.time_local.unwrap_or(0),
+                wide_time_local: b.wide_time_local.unwrap_or(0),
+                different_histories: b.different_histories.unwrap_or(0),
+                histories_experiment: rel(
+                    &b.histories_experiment,
+                    "blind/navigation_varied_histories.toml",
+                ),
                 identified_noise: b.identified_noise.unwrap_or(false),
                 runs: b.runs.unwrap_or_else(|| vec!["nav1".into(), "nav2".into()]),
                 calibration_experiment: rel(

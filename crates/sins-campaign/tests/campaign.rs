@@ -287,6 +287,7 @@ fn a_blind_campaign_grades_as_the_blind_suite_does() {
             ..SuiteShape::default()
         },
         calibration_experiment: cal,
+        histories_experiment: nav.clone(),
         navigation_experiment: nav,
         navigation_runs: vec!["nav1".into()],
         keep_datasets: false,

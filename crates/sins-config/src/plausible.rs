@@ -125,9 +125,17 @@ pub fn effect_largest_plausible(kind: EffectKind) -> f64 {
         // As large as a MEMS gyro bias.
         EffectKind::GyroBiasOscillation => 3600.0,
         // As large as a MEMS accelerometer bias.
-        EffectKind::AccelBiasStep | EffectKind::AccelBiasTransient => 100_000.0,
+        EffectKind::AccelBiasStep
+        | EffectKind::AccelBiasTransient
+        | EffectKind::AccelBiasPlateau
+        | EffectKind::AccelBiasPulse
+        | EffectKind::AccelBiasDecayingOscillation => 100_000.0,
         // As large as a MEMS gyro bias.
-        EffectKind::GyroBiasStep | EffectKind::GyroBiasTransient => 3600.0,
+        EffectKind::GyroBiasStep
+        | EffectKind::GyroBiasTransient
+        | EffectKind::GyroBiasPlateau
+        | EffectKind::GyroBiasPulse
+        | EffectKind::GyroBiasDecayingOscillation => 3600.0,
         // A MEMS bias drifting over its whole range within an hour.
         EffectKind::GyroBiasRamp => 3600.0,
         EffectKind::AccelBiasRamp => 100_000.0,

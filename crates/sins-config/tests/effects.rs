@@ -137,6 +137,31 @@ time_constant_s = 900
 [[imu.effect]]
 kind = "accel_bias_transient"
 amplitude_ug = [0.0, 30.0, 0.0]
+[[imu.effect]]
+kind = "gyro_bias_plateau"
+level_deg_per_h = [0.002, 0.0, 0.0]
+time_s = 5000
+rise_time_s = 5400
+[[imu.effect]]
+kind = "accel_bias_plateau"
+level_ug = [0.0, 20.0, 0.0]
+[[imu.effect]]
+kind = "gyro_bias_pulse"
+level_deg_per_h = [0.0, 0.0, 0.002]
+time_s = 4000
+duration_s = 900
+[[imu.effect]]
+kind = "accel_bias_pulse"
+level_ug = [20.0, 0.0, 0.0]
+[[imu.effect]]
+kind = "gyro_bias_decaying_oscillation"
+amplitude_deg_per_h = [0.0, 0.002, 0.0]
+time_s = 100
+period_s = 7200
+time_constant_s = 10800
+[[imu.effect]]
+kind = "accel_bias_decaying_oscillation"
+amplitude_ug = [0.0, 0.0, 20.0]
 "#;
     let fx = parse_effects_toml(text, "fx.toml").unwrap();
     let kinds: Vec<EffectKind> = fx.iter().map(|s| s.kind()).collect();
@@ -232,6 +257,43 @@ amplitude_ug = [0.0, 30.0, 0.0]
                 }
                 _ => false,
             },
+            EffectSpec::BiasProfile {
+                kind,
+                magnitude_si: m,
+                onset_s,
+                duration_s,
+                time_constant_s,
+            } => match kind {
+                EffectKind::GyroBiasPlateau => {
+                    close3(m, [0.002 * DEG_PER_H, 0.0, 0.0])
+                        && onset_s == 5000.0
+                        && duration_s == 5400.0
+                }
+                // Defaults: onset 7200 s, duration 3600 s, time constant 7200 s.
+                EffectKind::AccelBiasPlateau => {
+                    close3(m, [0.0, 20.0 * UG, 0.0]) && onset_s == 7200.0 && duration_s == 3600.0
+                }
+                EffectKind::GyroBiasPulse => {
+                    close3(m, [0.0, 0.0, 0.002 * DEG_PER_H])
+                        && onset_s == 4000.0
+                        && duration_s == 900.0
+                }
+                EffectKind::AccelBiasPulse => {
+                    close3(m, [20.0 * UG, 0.0, 0.0]) && duration_s == 3600.0
+                }
+                EffectKind::GyroBiasDecayingOscillation => {
+                    close3(m, [0.0, 0.002 * DEG_PER_H, 0.0])
+                        && onset_s == 100.0
+                        && duration_s == 7200.0
+                        && time_constant_s == 10_800.0
+                }
+                EffectKind::AccelBiasDecayingOscillation => {
+                    close3(m, [0.0, 0.0, 20.0 * UG])
+                        && duration_s == 3600.0
+                        && time_constant_s == 7200.0
+                }
+                _ => false,
+            },
         };
         assert!(ok, "{spec:?}");
     }
@@ -283,6 +345,20 @@ fn awkward(kind: EffectKind, n: usize) -> EffectSpec {
             time_constant_s: match kind {
                 EffectKind::GyroBiasTransient | EffectKind::AccelBiasTransient => 1e4 / 3.0,
                 _ => time_constant_s,
+            },
+        },
+        EffectSpec::BiasProfile {
+            kind, magnitude_si, ..
+        } => EffectSpec::BiasProfile {
+            kind,
+            magnitude_si,
+            onset_s: 1e5 / 7.0,
+            duration_s: 1e4 / 7.0,
+            time_constant_s: match kind {
+                // Plateaus and pulses have no time constant (their files none).
+                EffectKind::GyroBiasDecayingOscillation
+                | EffectKind::AccelBiasDecayingOscillation => 1e4 / 3.0,
+                _ => sins_imu::effects::spec::DEFAULT_PROFILE_TIME_CONSTANT_S,
             },
         },
         s => s,

@@ -5,6 +5,7 @@
 //! the winner's fitted series and withheld validation (`winner`).
 
 use crate::calib::uncertainty;
+use crate::confound::confounds;
 use crate::error::DiagError;
 use crate::events::EventScan;
 use crate::gaps::{Catalogue, catalogue, gaps};
@@ -13,11 +14,18 @@ use crate::localise::{GapSeries, localise};
 use crate::problem::{Problem, RunFitData};
 use crate::rank::{
     Evaluated, NullDist, TestContext, evaluate, finish_ranking, regression_evaluated, verdict,
+    with_scan_multiplicity,
 };
 use crate::refine::{RefineStart, Refinement, refine};
-use crate::report::{ChiSquareTest, Diagnosis, RunLocalisation};
+use crate::report::{
+    ChiSquareTest, Confound, Diagnosis, RunLocalisation, TimeCourseAlternative, Verdict,
+};
+use crate::rival::{JudgeScope, challenge, named};
 use crate::sensitivity::RunSensitivity;
-use crate::timelocal::{ScanScope, leader, ranked_without_events, time_local_events, with_events};
+use crate::stacked::Stacked;
+use crate::timelocal::{
+    ScanScope, leader, ranked_without_events, scan_runs, time_local_events, with_events,
+};
 use crate::twin::{base_setup, calibration_absorption, sensitivities};
 use crate::unresolved::{add_unresolved_walks, leader_contribution, widen_envelopes};
 use crate::winner::{WinnerScope, winner_constancy, winner_series};
@@ -90,9 +98,23 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         data: &data,
         n_tests: ctx.n_tests,
     };
-    let (events, signals) = time_local_events(&mut ranked, &scope, cfg, &mut notes)?;
+    // Every run whitened once, for the scan, the rival time courses and the confounds.
+    let mut stacked = match cfg.events.enabled {
+        true => Some(Stacked::new(
+            &scan_runs(None, &ranked, &scope),
+            &cfg.events,
+        )?),
+        false => None,
+    };
+    let (events, signals) = time_local_events(
+        &mut ranked,
+        &scope,
+        stacked.as_mut().map(|s| s.runs.as_mut_slice()),
+        cfg,
+        &mut notes,
+    )?;
     finish_ranking(&mut ranked, ctx.n, cfg);
-    if let Some(again) = ranked_without_events(
+    let (again, left) = ranked_without_events(
         &ranked,
         &events,
         &signals,
@@ -100,14 +122,28 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         &cat.layouts,
         floor_var,
         cfg,
-    )? {
+    )?;
+    if let Some(again) = again {
         notes.push(ranked_again_note(&events, &ranked, &again));
         ranked = again;
+    }
+    if null.consistent {
+        with_scan_multiplicity(&mut ranked, &ctx, events.tests, cfg);
     }
     // The verdict, the localisation, the winner's series and validation.
     let names: Vec<String> = input.runs.iter().map(|r| r.name.clone()).collect();
     winner_constancy(&mut ranked, &refinements, &problem, &names, cfg)?;
     let verdict = with_events(verdict(&problem, &ranked, &null, cfg), &events, &mut notes);
+    let challenged = Challenge {
+        scope: &scope,
+        data: &data,
+        layouts: &cat.layouts,
+        floor_var,
+        n_tests: ctx.n_tests,
+        left,
+    };
+    let (verdict, rivals, confound) =
+        challenged.run(verdict, stacked.as_mut(), &ranked, cfg, &mut notes)?;
     let localisation = localise_runs(input, &sens, &series, &data, floor_var, cfg)?;
     let winner = ranked
         .first()
@@ -134,7 +170,66 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         series: run_series,
         notes,
         noise_untrusted: Vec::new(),
+        rivals,
+        confound,
     })
+}
+
+/// What the last checks of a verdict read: the located events' leftover gap, the rival time
+/// courses and the confound of the design.
+struct Challenge<'a> {
+    scope: &'a ScanScope<'a>,
+    data: &'a [RunFitData],
+    layouts: &'a [crate::rank::Layout],
+    floor_var: f64,
+    n_tests: f64,
+    left: Option<ChiSquareTest>,
+}
+
+impl Challenge<'_> {
+    /// The verdict once the located events and the rival time courses have been weighed,
+    /// the rivals it cites and the confounds of the temperature-driven candidates.
+    fn run(
+        &self,
+        verdict: Verdict,
+        stacked: Option<&mut Stacked>,
+        ranked: &[Evaluated],
+        cfg: &DiagnoseConfig,
+        notes: &mut Vec<String>,
+    ) -> Result<(Verdict, Vec<TimeCourseAlternative>, Vec<Confound>), DiagError> {
+        let Some(stacked) = stacked else {
+            return Ok((verdict, Vec::new(), Vec::new()));
+        };
+        stacked.take(&scan_runs(None, ranked, self.scope), &cfg.events)?;
+        let stacked = &*stacked;
+        let confound = confounds(
+            stacked,
+            self.data,
+            self.layouts,
+            cfg.events.onset_every_s as f64,
+        );
+        let names_cause = !named(&verdict).is_empty();
+        if let Some(left) = self.left.as_ref().filter(|t| t.consistent && names_cause) {
+            notes.push(format!(
+                "the time-local events outside the catalogue leave no significant gap (chi2 \
+                 {:.1} for {:.1} expected, p {:.2}): the catalogue gets no credit",
+                left.chi2, left.dof, left.p_value
+            ));
+            return Ok((Verdict::Unexplained, Vec::new(), confound));
+        }
+        if !names_cause {
+            return Ok((verdict, Vec::new(), confound));
+        }
+        let sc = JudgeScope {
+            data: self.data,
+            layouts: self.layouts,
+            walks: self.scope.walks,
+            floor_var: self.floor_var,
+            n_tests: self.n_tests,
+        };
+        let (verdict, rivals) = challenge(verdict, stacked, ranked, &sc, cfg, notes)?;
+        Ok((verdict, rivals, confound))
+    }
 }
 
 /// The note on the catalogue ranked again without the time-local events outside it.

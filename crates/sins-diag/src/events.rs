@@ -119,7 +119,7 @@ impl Shape {
         }
     }
 
-    fn tau_s(self) -> Option<f64> {
+    pub(crate) fn tau_s(self) -> Option<f64> {
         match self {
             Shape::Transient { tau_s, .. } => Some(tau_s),
             _ => None,
@@ -234,12 +234,12 @@ pub struct ScanRun<'a> {
 }
 
 /// Whitening by the Cholesky factor of one run's covariance.
-struct RunWhitener {
+pub(crate) struct RunWhitener {
     l: Mat<f64>,
 }
 
 impl RunWhitener {
-    fn new(cov: &DMatrix<f64>) -> Result<Self, DiagError> {
+    pub(crate) fn new(cov: &DMatrix<f64>) -> Result<Self, DiagError> {
         let n = cov.nrows();
         let m = Mat::<f64>::from_fn(n, n, |i, j| cov[(i, j)]);
         let llt = m.llt(Side::Lower).map_err(|e| {
@@ -252,13 +252,13 @@ impl RunWhitener {
         })
     }
 
-    fn whiten_vec(&self, x: &DVector<f64>) -> DVector<f64> {
+    pub(crate) fn whiten_vec(&self, x: &DVector<f64>) -> DVector<f64> {
         self.whiten(&DMatrix::from_column_slice(x.len(), 1, x.as_slice()))
             .column(0)
             .into_owned()
     }
 
-    fn whiten(&self, x: &DMatrix<f64>) -> DMatrix<f64> {
+    pub(crate) fn whiten(&self, x: &DMatrix<f64>) -> DMatrix<f64> {
         let mut m = Mat::<f64>::from_fn(x.nrows(), x.ncols(), |i, j| x[(i, j)]);
         solve_lower_triangular_in_place(self.l.as_ref(), m.as_mut(), Par::Seq);
         DMatrix::from_fn(x.nrows(), x.ncols(), |i, j| m[(i, j)])
@@ -266,18 +266,18 @@ impl RunWhitener {
 }
 
 /// An orthonormal basis of nuisance directions (whitened) and the residual projected off it.
-struct Nuisance {
-    q: Vec<DVector<f64>>,
-    r: DVector<f64>,
+pub(crate) struct Nuisance {
+    pub(crate) q: Vec<DVector<f64>>,
+    pub(crate) r: DVector<f64>,
 }
 
 impl Nuisance {
-    fn new(r: DVector<f64>) -> Self {
+    pub(crate) fn new(r: DVector<f64>) -> Self {
         Self { q: Vec::new(), r }
     }
 
     /// Add a direction (Gram-Schmidt twice); the residual loses its component.
-    fn add(&mut self, v: &DVector<f64>) {
+    pub(crate) fn add(&mut self, v: &DVector<f64>) {
         let mut u = v.clone();
         for _ in 0..2 {
             for q in &self.q {
@@ -295,7 +295,7 @@ impl Nuisance {
     }
 
     /// `(ŝᵀr̂⊥, |ŝ⊥|²)`.
-    fn stat(&self, s: &[f64]) -> (f64, f64) {
+    pub(crate) fn stat(&self, s: &[f64]) -> (f64, f64) {
         let sv = nalgebra::DVectorView::from_slice(s, s.len());
         let a = sv.dot(&self.r);
         let mut b = sv.dot(&sv);
@@ -352,21 +352,27 @@ fn carried(s: &RunSensitivity, y: &Vec7, phis: &[Mat7]) -> DVector<f64> {
 
 /// One axis of a run: whitened step signals at every onset and the whitened constant-bias
 /// signal; the other shapes are generated from them on the fly (see [`AxisSignals::visit`]).
-struct AxisSignals {
-    axis: usize,
-    steps: DMatrix<f64>,
+pub(crate) struct AxisSignals {
+    pub(crate) axis: usize,
+    pub(crate) steps: DMatrix<f64>,
     /// Whitened `H Φ(t − t_1) Y_τ` of each turn-on time constant.
     turn_on: Vec<DVector<f64>>,
 }
 
 /// One signal handed to a visitor: its shape, onset index into the grid (0 for turn-on) and
 /// the whitened vector.
-type Visitor<'a> = dyn FnMut(Shape, usize, &DVector<f64>) + 'a;
+pub(crate) type Visitor<'a> = dyn FnMut(Shape, usize, &DVector<f64>) + 'a;
 
 impl AxisSignals {
     /// Every signal of the axis: steps, ramps and transients at each onset (last onset first),
     /// then the turn-on transients.
-    fn visit(&self, onset_s: &[f64], start_s: f64, cfg: &EventScanConfig, f: &mut Visitor<'_>) {
+    pub(crate) fn visit(
+        &self,
+        onset_s: &[f64],
+        start_s: f64,
+        cfg: &EventScanConfig,
+        f: &mut Visitor<'_>,
+    ) {
         let (rows, k) = (self.steps.nrows(), self.steps.ncols());
         let dt = cfg.onset_every_s as f64;
         let zero = DVector::zeros(rows);
@@ -428,13 +434,15 @@ impl AxisSignals {
 }
 
 /// Everything prepared for one run.
-struct Prepared {
-    run: String,
-    whitener: RunWhitener,
-    start_s: f64,
-    onset_s: Vec<f64>,
-    axes: Vec<AxisSignals>,
-    residual: DVector<f64>,
+pub(crate) struct Prepared {
+    /// A fingerprint of the covariance the run was whitened with.
+    cov_key: [f64; 2],
+    pub(crate) run: String,
+    pub(crate) whitener: RunWhitener,
+    pub(crate) start_s: f64,
+    pub(crate) onset_s: Vec<f64>,
+    pub(crate) axes: Vec<AxisSignals>,
+    pub(crate) residual: DVector<f64>,
     nuisance: Vec<DVector<f64>>,
     candidates: Vec<(String, DVector<f64>)>,
 }
@@ -477,9 +485,11 @@ fn onset_grid(
     Ok((out_dt, every, (first..last_fit).step_by(every).collect()))
 }
 
-fn prepare(r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<Prepared, DiagError> {
+pub(crate) fn prepare(r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<Prepared, DiagError> {
     let s = r.sens;
-    let w = RunWhitener::new(&run_covariance(r, None))?;
+    let cov = run_covariance(r, None);
+    let cov_key = fingerprint(&cov);
+    let w = RunWhitener::new(&cov)?;
     let (out_dt, every, onsets) = onset_grid(s, cfg)?;
     let fit_every = match s.times.fit_index.as_slice() {
         [a, b, ..] => b - a,
@@ -505,23 +515,60 @@ fn prepare(r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<Prepared, DiagError
                 .collect(),
         })
         .collect();
-    let nw = w.whiten(&r.nuisance);
-    let residual = w.whiten_vec(&r.residual);
-    let candidates = r
-        .candidates
-        .iter()
-        .map(|(n, c)| (n.clone(), w.whiten_vec(c)))
-        .collect();
-    Ok(Prepared {
+    let mut p = Prepared {
+        cov_key,
         whitener: w,
         run: r.fit.run.clone(),
         start_s: s.times.start_s,
         onset_s,
         axes,
-        residual,
-        nuisance: nw.column_iter().map(|c| c.into_owned()).collect(),
-        candidates,
-    })
+        residual: DVector::zeros(0),
+        nuisance: Vec::new(),
+        candidates: Vec::new(),
+    };
+    p.retarget(r);
+    Ok(p)
+}
+
+/// Two weighted sums of a covariance's entries: equal for the same matrix, and different for
+/// any two covariances the diagnosis builds.
+fn fingerprint(cov: &DMatrix<f64>) -> [f64; 2] {
+    let mut k = [0.0, 0.0];
+    for (i, v) in cov.iter().enumerate() {
+        k[0] += v;
+        k[1] += v * (1.0 + (i % 7919) as f64);
+    }
+    k
+}
+
+impl Prepared {
+    /// Take run `r`: its residual, nuisance and candidates when its covariance is the one this
+    /// run was whitened with (a refined winner's runs may carry another), else all of it.
+    pub(crate) fn take(&mut self, r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<(), DiagError> {
+        if fingerprint(&run_covariance(r, None)) == self.cov_key {
+            self.retarget(r);
+        } else {
+            *self = prepare(r, cfg)?;
+        }
+        Ok(())
+    }
+
+    /// Take the residual, nuisance and candidates of `r` (a run whose covariance is the one
+    /// this run was whitened with), keeping the whitened signals.
+    fn retarget(&mut self, r: &ScanRun<'_>) {
+        let w = &self.whitener;
+        self.residual = w.whiten_vec(&r.residual);
+        self.nuisance = w
+            .whiten(&r.nuisance)
+            .column_iter()
+            .map(|c| c.into_owned())
+            .collect();
+        self.candidates = r
+            .candidates
+            .iter()
+            .map(|(n, c)| (n.clone(), w.whiten_vec(c)))
+            .collect();
+    }
 }
 
 /// The strongest signal of a run against the current nuisance, with the best `T` (and its
@@ -601,7 +648,7 @@ pub struct EventSignal {
 
 impl RunWhitener {
     /// `L x`: back from the whitened space.
-    fn colour(&self, x: &DVector<f64>) -> DVector<f64> {
+    pub(crate) fn colour(&self, x: &DVector<f64>) -> DVector<f64> {
         let n = x.len();
         DVector::from_fn(n, |i, _| (0..=i).map(|j| self.l[(i, j)] * x[j]).sum())
     }
@@ -641,46 +688,85 @@ pub fn scan_with_signals(
     if !cfg.enabled || runs.is_empty() {
         return Ok((EventScan::default(), Vec::new()));
     }
-    // Runs one at a time (each holds its whitened step signals, about 20 MB for 15 h); the
-    // family's size is known before any is scanned.
-    let tests = runs
-        .iter()
-        .map(|r| planned_tests(r, cfg))
-        .sum::<Result<usize, _>>()?;
-    let thr = chi2_isf(cfg.alpha / tests.max(1) as f64, 1.0);
-    let mut out = EventScan {
-        events: Vec::new(),
-        tests,
-        threshold_chi2: thr,
-        detectable: Vec::new(),
-    };
-    let mut signals = Vec::new();
+    // Runs one at a time (each holds its whitened step signals, about 20 MB for 15 h).
+    let tests = family(runs, cfg)?;
+    let mut acc = Accumulated::new(tests, cfg);
     for (ri, r) in runs.iter().enumerate() {
-        let p = prepare(r, cfg)?;
+        acc.scan_run(ri, &prepare(r, cfg)?, cfg);
+    }
+    Ok((acc.out, acc.signals))
+}
+
+/// [`scan_with_signals`] on runs already prepared (whitened with the covariance of `runs`),
+/// retargeted to the residuals, nuisances and candidates of `runs`.
+pub(crate) fn scan_prepared(
+    prepared: &mut [Prepared],
+    runs: &[ScanRun<'_>],
+    cfg: &EventScanConfig,
+) -> Result<(EventScan, Vec<EventSignal>), DiagError> {
+    if !cfg.enabled || runs.is_empty() {
+        return Ok((EventScan::default(), Vec::new()));
+    }
+    let mut acc = Accumulated::new(family(runs, cfg)?, cfg);
+    for (ri, (p, r)) in prepared.iter_mut().zip(runs).enumerate() {
+        p.take(r, cfg)?;
+        acc.scan_run(ri, p, cfg);
+    }
+    Ok((acc.out, acc.signals))
+}
+
+/// The size of the scan's family: every onset, shape and axis of every run.
+fn family(runs: &[ScanRun<'_>], cfg: &EventScanConfig) -> Result<usize, DiagError> {
+    runs.iter().map(|r| planned_tests(r, cfg)).sum()
+}
+
+/// The scan's result as the runs are scanned.
+struct Accumulated {
+    out: EventScan,
+    signals: Vec<EventSignal>,
+}
+
+impl Accumulated {
+    fn new(tests: usize, cfg: &EventScanConfig) -> Self {
+        Self {
+            out: EventScan {
+                events: Vec::new(),
+                tests,
+                threshold_chi2: chi2_isf(cfg.alpha / tests.max(1) as f64, 1.0),
+                detectable: Vec::new(),
+            },
+            signals: Vec::new(),
+        }
+    }
+
+    /// Scan run `ri`: the strongest significant signal, projected out, up to
+    /// `max_events_per_run` times.
+    fn scan_run(&mut self, ri: usize, p: &Prepared, cfg: &EventScanConfig) {
+        let (tests, thr) = (self.out.tests, self.out.threshold_chi2);
         let mut nuis = Nuisance::new(p.residual.clone());
         for v in &p.nuisance {
             nuis.add(v);
         }
-        out.detectable
-            .extend(detectable_curves(&p, &nuis, thr, cfg));
+        self.out
+            .detectable
+            .extend(detectable_curves(p, &nuis, thr, cfg));
         for _ in 0..cfg.max_events_per_run {
-            let Some(b) = best(&p, &nuis, cfg) else { break };
+            let Some(b) = best(p, &nuis, cfg) else { break };
             if b.t < thr {
                 break;
             }
-            out.events.push(event(&p, &nuis, &b, tests, thr, cfg));
-            signals.push(EventSignal {
+            self.out.events.push(event(p, &nuis, &b, tests, thr, cfg));
+            self.signals.push(EventSignal {
                 run: ri,
                 contribution: p.whitener.colour(&(&b.signal * (b.a / b.b))),
             });
             nuis.add(&b.signal);
         }
     }
-    Ok((out, signals))
 }
 
 /// The number of signals [`scan`] tests on a run (what [`AxisSignals::visit`] hands out).
-fn planned_tests(r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<usize, DiagError> {
+pub(crate) fn planned_tests(r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<usize, DiagError> {
     let k = onset_grid(r.sens, cfg)?.2.len();
     let n = cfg.time_constants_s.len();
     Ok(6 * (k * (2 + n) + if k > 0 { n } else { 0 }))

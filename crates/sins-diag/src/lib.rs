@@ -100,6 +100,10 @@ mod refine;
 // 5. Time-local effects.
 pub mod events;
 mod timelocal;
+// 5b. Time-local rivals of a catalogue verdict and the design's confounds.
+pub mod confound;
+pub mod rival;
+mod stacked;
 // 6. Verdict, localisation, validation, and the diagnosis that runs the stages.
 mod constancy;
 mod diagnose;
@@ -117,7 +121,7 @@ pub use diagnose::diagnose;
 pub use error::DiagError;
 pub use input::{DiagnoseConfig, DiagnosisInput, RunData};
 pub use pass::Grid;
-pub use report::{Diagnosis, Verdict};
+pub use report::{Confound, Diagnosis, TimeCourseAlternative, Verdict};
 pub use runs::track_at;
 pub use stats::{chi2_isf, chi2_sf, normal_cdf};
 pub use temperature::TemperatureSeries;

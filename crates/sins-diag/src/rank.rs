@@ -292,6 +292,29 @@ pub fn finish_ranking(out: &mut [Evaluated], n: f64, cfg: &DiagnoseConfig) {
     });
 }
 
+/// When the null test finds no significant gap, a candidate named as a cause must also survive
+/// the multiplicity of the time-local scan (`scan_tests` more tests): each p-value is corrected
+/// over the catalogue's `n_tests` and the scan's together, as the events' are. (A chi-square
+/// drop of 10 among a few dozen catalogue tests is not a cause on data the global test calls
+/// consistent with the twin.) The ranking is finished again.
+pub fn with_scan_multiplicity(
+    ranked: &mut [Evaluated],
+    ctx: &TestContext,
+    scan_tests: usize,
+    cfg: &DiagnoseConfig,
+) {
+    let family = ctx.n_tests + scan_tests as f64;
+    for e in ranked.iter_mut() {
+        let r = &mut e.report;
+        let raw = match r.model {
+            CandidateModel::NoiseTerm => 0.5 * chi2_sf(r.dchi2, 1.0),
+            _ => chi2_sf(r.dchi2, r.dof.max(1) as f64),
+        };
+        r.p_value = (raw * family).min(1.0);
+    }
+    finish_ranking(ranked, ctx.n, cfg);
+}
+
 /// Fraction of `a`'s fitted signature that `b`'s columns explain, in the twin's metric.
 fn explained(p: &Problem, a: &(Layout, RegressionFit), b: &(Layout, RegressionFit)) -> f64 {
     let sa = select(&p.a, a.0.first, &a.1.retained) * &a.1.fit.theta;
@@ -331,6 +354,7 @@ pub fn verdict(
         if close && alike {
             return Verdict::NotSeparable {
                 candidates: vec![best.report.kind.clone(), second.report.kind.clone()],
+                time_local: Vec::new(),
             };
         }
     }

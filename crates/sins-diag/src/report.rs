@@ -167,9 +167,40 @@ pub enum Verdict {
     Unexplained,
     /// The best candidates leave signatures the data cannot tell apart.
     NotSeparable {
-        /// Kind names, best first.
+        /// Catalogue kind names, best first.
         candidates: Vec<String>,
+        /// Time courses outside the catalogue that explain the same gap as well (a catalogue
+        /// effect driven by one chamber history and a time course common to every run look
+        /// alike; see [`crate::rival`]).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        time_local: Vec<TimeCourseAlternative>,
     },
+}
+
+/// A time course outside the catalogue that explains the gap as well as a catalogue verdict:
+/// one signal of the rival fit (see [`crate::rival`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TimeCourseAlternative {
+    /// The time-local kind it is reported as (`accel_bias_ramp`, `gyro_bias_step` ...).
+    pub kind: String,
+    /// Channel: `gyro x` ... `accel z` (body axes).
+    pub channel: String,
+    /// The run it acts in, or `all runs` (one time course on every run's time axis).
+    pub runs: String,
+    /// `step`, `ramp`, `transient`, `turn-on transient` or `oscillation`.
+    pub shape: String,
+    /// Onset (s on the run's time axis; navigation start for an oscillation).
+    pub onset_s: f64,
+    /// Time constant of a transient, or period of an oscillation (s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_s: Option<f64>,
+    /// Size in `unit` (a step's jump, a ramp's rate, a transient's value at onset, an
+    /// oscillation's amplitude of its sine or cosine part).
+    pub size: f64,
+    /// Unit of the size.
+    pub unit: String,
+    /// Its chi-square drop when it was added to the rival fit (one degree of freedom).
+    pub dchi2: f64,
 }
 
 /// One segment and channel of a run's gap.
@@ -322,4 +353,33 @@ pub struct Diagnosis {
     /// then stands on a twin whose spread may be wrong, and says so.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub noise_untrusted: Vec<String>,
+    /// Time courses outside the catalogue that explain the gap in place of the catalogue
+    /// (verdict `unexplained`) or as well as it (verdict `not_separable`); see
+    /// [`crate::rival`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rivals: Vec<TimeCourseAlternative>,
+    /// How much of each temperature-driven candidate's information a time course common to
+    /// every run takes away: a limit of the data (see [`crate::confound`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub confound: Vec<Confound>,
+}
+
+/// The confound of one temperature-driven candidate with a time course common to every run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Confound {
+    /// Kind name.
+    pub kind: String,
+    /// Share of its Fisher information (pooled over components, 0-1) that the common time
+    /// course takes away with these runs.
+    pub information_lost: f64,
+    /// Its component that loses the most.
+    pub worst_component: String,
+    /// That component's share lost (0-1).
+    pub worst_component_lost: f64,
+    /// The pooled share with one more run like `like_run`, the chamber held.
+    pub with_held_run: f64,
+    /// The pooled share with one more run like `like_run`, its temperature excursion reversed.
+    pub with_reversed_run: f64,
+    /// The run the extra runs are modelled on (the longest).
+    pub like_run: String,
 }

@@ -5,13 +5,14 @@
 use crate::candidates::RegressionFit;
 use crate::error::DiagError;
 use crate::events::{
-    EventScan, EventSignal, ScanRun, TimeLocalEvent, chi2_with, scan_with_signals,
+    EventScan, EventSignal, Prepared, ScanRun, TimeLocalEvent, chi2_with, scan_prepared,
+    scan_with_signals,
 };
 use crate::input::DiagnoseConfig;
 use crate::problem::{Problem, RunFitData};
 use crate::rank::{Evaluated, Layout, NullDist, evaluate};
 use crate::refine::Refinement;
-use crate::report::Verdict;
+use crate::report::{ChiSquareTest, Verdict};
 use crate::sensitivity::RunSensitivity;
 use crate::stats::chi2_sf;
 use crate::walk::fit_walk;
@@ -35,7 +36,7 @@ pub(crate) struct ScanScope<'a> {
 /// The scan's runs against a deterministic winner's fit (refined if it was), or the twin alone;
 /// the other deterministic candidates with their linear fits, to tell whether one explains an
 /// event.
-fn scan_runs<'a>(
+pub(crate) fn scan_runs<'a>(
     winner: Option<&Evaluated>,
     ranked: &[Evaluated],
     sc: &ScanScope<'a>,
@@ -86,8 +87,8 @@ fn scan_runs<'a>(
         .collect()
 }
 
-/// The time-local scan of every run (see [`crate::events`]) against the deterministic winner's
-/// fit, or the twin alone when a random walk or nothing won. A winning walk is then refitted on
+/// The time-local scan of every run (see [`crate::events`]; on `prepared` runs when given)
+/// against the deterministic winner's fit, or the twin alone when a random walk or nothing won. A winning walk is then refitted on
 /// the gap less the events no deterministic candidate explains: if it is no longer significant,
 /// its evidence was the events (a step or a transient is not a walk) and it is refused;
 /// otherwise each of those events that the fitted walk's covariance makes insignificant is
@@ -95,12 +96,16 @@ fn scan_runs<'a>(
 pub(crate) fn time_local_events(
     ranked: &mut [Evaluated],
     sc: &ScanScope<'_>,
+    prepared: Option<&mut [Prepared]>,
     cfg: &DiagnoseConfig,
     notes: &mut Vec<String>,
 ) -> Result<(EventScan, Vec<EventSignal>), DiagError> {
     let winner = ranked.first().filter(|e| e.report.passes);
     let runs = scan_runs(winner, ranked, sc);
-    let (mut events, signals) = scan_with_signals(&runs, &cfg.events)?;
+    let (mut events, signals) = match prepared {
+        Some(p) => scan_prepared(p, &runs, &cfg.events)?,
+        None => scan_with_signals(&runs, &cfg.events)?,
+    };
     let walk = winner
         .filter(|w| w.regression.is_none())
         .and_then(|w| sc.walks.iter().find(|(k, _)| *k == w.kind).copied());
@@ -173,7 +178,7 @@ pub(crate) fn time_local_events(
 }
 
 /// The fit problem of `data` with the events' fitted contributions taken off their runs' gaps.
-fn without_events<'a>(
+pub(crate) fn without_events<'a>(
     data: &[RunFitData],
     events: impl Iterator<Item = &'a EventSignal>,
 ) -> Result<Problem, DiagError> {
@@ -194,8 +199,10 @@ pub(crate) fn leader(ranked: &[Evaluated]) -> &str {
 
 /// The catalogue ranked on the gap less the events no catalogue term explains, when that
 /// changes the leader (an effect local in time pulls the fit of slow catalogue signatures: a
-/// turn-on transient passes for a g-sensitivity); `None` when there is no such event or the
-/// leader stays (the first ranking keeps its refinements).
+/// turn-on transient passes for a g-sensitivity), and the null test of that gap: when the
+/// located events leave no significant gap, the catalogue gets no credit. `None`s when there
+/// is no such event; no ranking when the leader stays (the first ranking keeps its
+/// refinements).
 pub(crate) fn ranked_without_events(
     ranked: &[Evaluated],
     events: &EventScan,
@@ -204,7 +211,7 @@ pub(crate) fn ranked_without_events(
     layouts: &[Layout],
     floor_var: f64,
     cfg: &DiagnoseConfig,
-) -> Result<Option<Vec<Evaluated>>, DiagError> {
+) -> Result<(Option<Vec<Evaluated>>, Option<ChiSquareTest>), DiagError> {
     let mut outside = signals
         .iter()
         .zip(&events.events)
@@ -212,18 +219,23 @@ pub(crate) fn ranked_without_events(
         .map(|(s, _)| s)
         .peekable();
     if outside.peek().is_none() {
-        return Ok(None);
+        return Ok((None, None));
     }
     let p2 = without_events(sc.data, outside)?;
     let (mean, var) = p2.null_moments(floor_var);
-    let again = evaluate(
-        &p2,
-        layouts,
-        sc.walks,
-        &NullDist::from_moments(mean, var),
-        cfg,
-    );
-    Ok((leader(&again) != leader(ranked)).then_some(again))
+    let dist = NullDist::from_moments(mean, var);
+    // The events' sizes and onsets were fitted: one size and one onset each.
+    let fitted = 2 * events
+        .events
+        .iter()
+        .filter(|e| e.explained_by.is_none())
+        .count();
+    let left = dist.test(p2.gls.chi2(), fitted, cfg.null_alpha);
+    let again = evaluate(&p2, layouts, sc.walks, &dist, cfg);
+    Ok((
+        (leader(&again) != leader(ranked)).then_some(again),
+        Some(left),
+    ))
 }
 
 /// The verdict once the time-local events are known: an event no catalogue term explains is a

@@ -73,7 +73,7 @@ fn a_gyro_bias_oscillation_is_not_a_walk() {
     }
     let named = match &d.verdict {
         Verdict::Explained { by } | Verdict::PartlyExplained { by } => vec![by.clone()],
-        Verdict::NotSeparable { candidates } => candidates.clone(),
+        Verdict::NotSeparable { candidates, .. } => candidates.clone(),
         _ => Vec::new(),
     };
     assert!(

@@ -15,6 +15,7 @@ pub mod blind;
 mod error;
 mod markdown;
 mod markdown_events;
+mod markdown_rivals;
 mod noise;
 mod run;
 mod source;

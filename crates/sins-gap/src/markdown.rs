@@ -38,10 +38,19 @@ fn verdict_line(v: &Verdict) -> String {
         Verdict::Unexplained => {
             "**None of the catalogue explains it**: the gap is significant, and no candidate effect both passes the test and leaves a consistent residual.".into()
         }
-        Verdict::NotSeparable { candidates } => format!(
-            "**Not separable**: {} leave signatures that these data cannot tell apart; the tool does not guess between them (more varied motion or temperature would separate them).",
-            candidates.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", ")
-        ),
+        Verdict::NotSeparable {
+            candidates,
+            time_local,
+        } => {
+            let mut named: Vec<String> = candidates.iter().map(|c| format!("`{c}`")).collect();
+            named.extend(time_local.iter().map(|t| {
+                format!("a {} on {} in {} from {:.0} s", t.shape, t.channel, t.runs, t.onset_s)
+            }));
+            format!(
+                "**Not separable**: {} leave signatures that these data cannot tell apart; the tool does not guess between them (more varied motion or temperature would separate them; see the confounds below).",
+                named.join(", ")
+            )
+        }
     }
 }
 
@@ -50,6 +59,9 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
     let d = &o.diagnosis;
     let mut md = String::from("# Sim-to-real gap diagnosis\n\n");
     let _ = writeln!(md, "{}\n", verdict_line(&d.verdict));
+    if let Some(line) = crate::markdown_rivals::confound_line(d) {
+        let _ = writeln!(md, "{line}\n");
+    }
     if !d.noise_untrusted.is_empty() {
         let _ = writeln!(
             md,
@@ -252,6 +264,8 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
         );
     }
     md.push_str(&crate::markdown_events::render_events(&d.events));
+    md.push_str(&crate::markdown_rivals::render_rivals(&d.rivals));
+    md.push_str(&crate::markdown_rivals::render_confound(d));
     let _ = writeln!(md, "\n## 3. How far the gap shrinks on withheld data\n");
     if d.validation.is_empty() {
         let _ = writeln!(

@@ -81,6 +81,15 @@ fn spec_of(kind: EffectKind) -> EffectSpec {
             onset_s: 1.003,
             time_constant_s: 2.0,
         },
+        EffectSpec::BiasProfile {
+            kind, magnitude_si, ..
+        } => EffectSpec::BiasProfile {
+            kind,
+            magnitude_si,
+            onset_s: 1.003,
+            duration_s: 1.5,
+            time_constant_s: 2.0,
+        },
         EffectSpec::GyroBiasRandomWalk {
             intensity_radps_per_sqrt_s,
             correlation_s,

@@ -24,6 +24,15 @@ pub struct Args {
     /// drawn after the others (the first cases are those of a suite without them).
     #[arg(long, default_value_t = 0)]
     pub time_local: usize,
+    /// Cases of the widened time-local draw, after those: shapes in turn (step, ramp, ramp to a
+    /// plateau, pulse, transient, decaying oscillation), gyro or accelerometer, in one
+    /// navigation run, in every navigation run at the same time, or in the calibration run only.
+    #[arg(long, default_value_t = 0)]
+    pub wide_time_local: usize,
+    /// Cases with a temperature-driven catalogue effect whose navigation runs have markedly
+    /// different chamber histories (experiments/blind/navigation_varied_histories.toml), last.
+    #[arg(long, default_value_t = 0)]
+    pub different_histories: usize,
     /// The twin's noise identified from each case's own datasets (Allan deviation of their
     /// stationary segments, as `diagnose` does without --noise-from) instead of the noise file.
     #[arg(long)]
@@ -58,10 +67,13 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             out_of_catalogue: args.outside,
             time_local: args.time_local,
             time_local_runs: args.runs.clone(),
+            wide_time_local: args.wide_time_local,
+            different_histories: args.different_histories,
             ..SuiteShape::default()
         },
         calibration_experiment: exp.join("paper_truth_calibration.toml"),
         navigation_experiment: exp.join("paper_navigation.toml"),
+        histories_experiment: exp.join("blind/navigation_varied_histories.toml"),
         navigation_runs: args.runs.clone(),
         keep_datasets: args.keep_datasets,
         only: args.only.clone(),
@@ -87,6 +99,18 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         g.median_shrinkage_percent
             .map_or("-".to_string(), |v| format!("{v:.0} %"))
     )?;
+    if g.confident_misattributions.1 > 0 {
+        say!(
+            "confident misattributions {}/{}{}",
+            g.confident_misattributions.0,
+            g.confident_misattributions.1,
+            if g.misattributed_cases.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", g.misattributed_cases.join(", "))
+            }
+        )?;
+    }
     say!(
         "wrote {} (suite SHA-256 {})",
         path.display(),

@@ -40,6 +40,9 @@ impl BlindWork {
             null,
             outside,
             time_local,
+            wide_time_local,
+            different_histories,
+            histories_experiment,
             identified_noise,
             runs,
             calibration_experiment,
@@ -57,10 +60,13 @@ impl BlindWork {
                 out_of_catalogue: *outside,
                 time_local: *time_local,
                 time_local_runs: runs.clone(),
+                wide_time_local: *wide_time_local,
+                different_histories: *different_histories,
                 ..SuiteShape::default()
             },
             calibration_experiment: calibration_experiment.clone(),
             navigation_experiment: navigation_experiment.clone(),
+            histories_experiment: histories_experiment.clone(),
             navigation_runs: runs.clone(),
             keep_datasets: false,
             only: Vec::new(),
@@ -69,7 +75,7 @@ impl BlindWork {
         };
         let load = |p: &Path| sins_config::load_experiment(p).map_err(|e| job_error(0, e));
         let fingerprint = format!(
-            "{:?}\n{:?}\n{:?}\n{:?}\n{:?}{}",
+            "{:?}\n{:?}\n{:?}\n{:?}\n{:?}{}{}",
             cfg.suite_seed,
             cfg.shape,
             cfg.navigation_runs,
@@ -80,6 +86,13 @@ impl BlindWork {
                 "\nidentified noise"
             } else {
                 ""
+            },
+            // Likewise the experiment of the "different histories" cases, when they are drawn
+            // (the shape's Debug shows the new sections only when they draw cases).
+            if cfg.shape.different_histories > 0 {
+                format!("\n{:?}", load(&cfg.histories_experiment)?)
+            } else {
+                String::new()
             }
         );
         let answers = draw_cases(&cfg.shape, cfg.suite_seed);

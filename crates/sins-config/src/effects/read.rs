@@ -110,7 +110,9 @@ impl Reader<'_, '_> {
         let x = self.number(key, v, aux.factor(), aux == Aux::CorrelationS)?;
         let bad = match aux {
             Aux::CorrelationS if x <= 0.0 => Some("must be > 0 (or inf for a random walk)".into()),
-            Aux::PeriodS | Aux::TimeConstantS if x <= 0.0 => Some("must be > 0".into()),
+            Aux::PeriodS | Aux::TimeConstantS | Aux::RiseTimeS | Aux::DurationS if x <= 0.0 => {
+                Some("must be > 0".into())
+            }
             Aux::ReferenceDegc if !plausible::temperature_ok(x) => {
                 Some(format!("is {}", plausible::temperature_range_text()))
             }

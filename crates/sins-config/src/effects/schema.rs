@@ -20,8 +20,12 @@ pub(super) enum Aux {
     PhaseDeg,
     /// `time_s` (optional, default 7200 s).
     TimeS,
-    /// `time_constant_s` (optional, default 1800 s; > 0).
+    /// `time_constant_s` (optional, default 1800 s, 7200 s for a decaying oscillation; > 0).
     TimeConstantS,
+    /// `rise_time_s` of a ramp to a plateau (optional, default 3600 s; > 0).
+    RiseTimeS,
+    /// `duration_s` of a pulse (optional, default 3600 s; > 0).
+    DurationS,
 }
 
 impl Aux {
@@ -34,6 +38,8 @@ impl Aux {
             Aux::PhaseDeg => "phase_deg",
             Aux::TimeS => "time_s",
             Aux::TimeConstantS => "time_constant_s",
+            Aux::RiseTimeS => "rise_time_s",
+            Aux::DurationS => "duration_s",
         }
     }
 
@@ -79,6 +85,18 @@ pub(super) fn schema(kind: EffectKind) -> (&'static [&'static str], &'static [Au
             (&["amplitude_deg_per_h"], &[Aux::TimeS, Aux::TimeConstantS])
         }
         EffectKind::AccelBiasTransient => (&["amplitude_ug"], &[Aux::TimeS, Aux::TimeConstantS]),
+        EffectKind::GyroBiasPlateau => (&["level_deg_per_h"], &[Aux::TimeS, Aux::RiseTimeS]),
+        EffectKind::AccelBiasPlateau => (&["level_ug"], &[Aux::TimeS, Aux::RiseTimeS]),
+        EffectKind::GyroBiasPulse => (&["level_deg_per_h"], &[Aux::TimeS, Aux::DurationS]),
+        EffectKind::AccelBiasPulse => (&["level_ug"], &[Aux::TimeS, Aux::DurationS]),
+        EffectKind::GyroBiasDecayingOscillation => (
+            &["amplitude_deg_per_h"],
+            &[Aux::TimeS, Aux::PeriodS, Aux::TimeConstantS],
+        ),
+        EffectKind::AccelBiasDecayingOscillation => (
+            &["amplitude_ug"],
+            &[Aux::TimeS, Aux::PeriodS, Aux::TimeConstantS],
+        ),
     }
 }
 
@@ -118,6 +136,17 @@ pub(super) fn get_aux(spec: &EffectSpec, aux: Aux) -> (f64, u64) {
             },
             Aux::TimeConstantS,
         ) => (*time_constant_s, 0),
+        (EffectSpec::BiasProfile { onset_s, .. }, Aux::TimeS) => (*onset_s, 0),
+        (
+            EffectSpec::BiasProfile { duration_s, .. },
+            Aux::RiseTimeS | Aux::DurationS | Aux::PeriodS,
+        ) => (*duration_s, 0),
+        (
+            EffectSpec::BiasProfile {
+                time_constant_s, ..
+            },
+            Aux::TimeConstantS,
+        ) => (*time_constant_s, 0),
         _ => (0.0, 0),
     }
 }
@@ -146,6 +175,17 @@ pub(super) fn set_aux(spec: &mut EffectSpec, aux: Aux, value: f64, seed_value: u
         (EffectSpec::BiasEvent { onset_s, .. }, Aux::TimeS) => *onset_s = value,
         (
             EffectSpec::BiasEvent {
+                time_constant_s, ..
+            },
+            Aux::TimeConstantS,
+        ) => *time_constant_s = value,
+        (EffectSpec::BiasProfile { onset_s, .. }, Aux::TimeS) => *onset_s = value,
+        (
+            EffectSpec::BiasProfile { duration_s, .. },
+            Aux::RiseTimeS | Aux::DurationS | Aux::PeriodS,
+        ) => *duration_s = value,
+        (
+            EffectSpec::BiasProfile {
                 time_constant_s, ..
             },
             Aux::TimeConstantS,

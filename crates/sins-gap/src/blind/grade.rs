@@ -1,10 +1,12 @@
 //! Grading the blind diagnoses against the opened manifests.
 
-use super::plan::CaseAnswer;
+use super::plan::{CaseAnswer, HiddenEffect};
 use super::time_local::{self, TimeLocalGrade};
 use serde::Serialize;
 use sins_config::markdown::Table;
 use sins_diag::report::{Diagnosis, Verdict};
+use sins_imu::EffectKind;
+use sins_imu::effects::Sensor;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
@@ -38,7 +40,140 @@ pub struct CaseGrade {
     pub time_local: Option<TimeLocalGrade>,
     /// The diagnosis reports a time-local event that no catalogue term explains.
     pub unexplained_event: bool,
+    /// The causes the verdict names (see [`named_causes`]), each with whether it is right.
+    #[serde(default)]
+    pub named_causes: Vec<NamedCause>,
+    /// A confident misattribution: the verdict is explained, partly explained or not
+    /// separable, and every cause it names is wrong.
+    #[serde(default)]
+    pub confident_misattribution: bool,
 }
+
+/// One cause a verdict names: a catalogue kind, or a time course outside the catalogue (a
+/// `TimeCourseAlternative` of a "not separable" verdict).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct NamedCause {
+    /// The kind name.
+    pub kind: String,
+    /// The channel of a time course (`gyro x` ... `accel z`), none for a catalogue kind.
+    pub channel: Option<String>,
+    /// The run(s) of a time course (a run name or `all runs`).
+    pub runs: Option<String>,
+    /// Right: the hidden kind itself, or, for a time-local hidden effect, a time-local cause on
+    /// the same sensor (gyro or accelerometer).
+    pub right: bool,
+    /// A right cause on the hidden effect's own channel.
+    pub right_channel: bool,
+}
+
+impl NamedCause {
+    fn label(&self) -> String {
+        match (&self.channel, &self.runs) {
+            (Some(c), Some(r)) => format!("{} {c} ({r})", self.kind),
+            (Some(c), None) => format!("{} {c}", self.kind),
+            _ => self.kind.clone(),
+        }
+    }
+}
+
+/// The causes a verdict names, as (kind, channel, runs): `Explained { by }` and
+/// `PartlyExplained { by }` one catalogue kind, `NotSeparable` its candidates and its
+/// time-local alternatives; the others none.
+pub fn named_causes(v: &Verdict) -> Vec<(String, Option<String>, Option<String>)> {
+    match v {
+        Verdict::Explained { by } | Verdict::PartlyExplained { by } => {
+            vec![(by.clone(), None, None)]
+        }
+        Verdict::NotSeparable {
+            candidates,
+            time_local,
+        } => candidates
+            .iter()
+            .map(|c| (c.clone(), None, None))
+            .chain(time_local.iter().map(|t| {
+                (
+                    t.kind.clone(),
+                    Some(t.channel.clone()),
+                    Some(t.runs.clone()),
+                )
+            }))
+            .collect(),
+        Verdict::NoSignificantGap | Verdict::Unexplained => Vec::new(),
+    }
+}
+
+fn sensor_name(s: Sensor) -> &'static str {
+    match s {
+        Sensor::Gyro => "gyro",
+        Sensor::Accel => "accel",
+    }
+}
+
+/// Whether a named cause is right for the hidden effect, and on its channel (see
+/// [`NamedCause`]); for a null case every cause is wrong.
+fn judge(
+    hidden: Option<&HiddenEffect>,
+    (kind, channel, runs): (String, Option<String>, Option<String>),
+) -> NamedCause {
+    let cause_kind = EffectKind::from_name(&kind);
+    let (right, right_channel) = match hidden {
+        None => (false, false),
+        Some(h) => {
+            let hidden_kind = EffectKind::from_name(&h.kind);
+            let hidden_channel =
+                hidden_kind.map(|k| format!("{} {}", sensor_name(k.sensor()), h.component_label));
+            // A time course's sensor is its channel's; failing that, its kind's.
+            let cause_sensor = channel
+                .as_deref()
+                .and_then(|c| c.split_whitespace().next())
+                .map(str::to_string)
+                .or_else(|| cause_kind.map(|k| sensor_name(k.sensor()).to_string()));
+            let time_local_cause =
+                channel.is_some() || cause_kind.is_some_and(|k| k.is_time_local());
+            let same_sensor = hidden_kind
+                .is_some_and(|k| cause_sensor.as_deref() == Some(sensor_name(k.sensor())));
+            let right = kind == h.kind || (h.is_time_local() && time_local_cause && same_sensor);
+            let on_channel = match &channel {
+                Some(c) => hidden_channel.as_deref() == Some(c.as_str()),
+                // A catalogue kind has no channel: the hidden kind itself is on its channel.
+                None => kind == h.kind,
+            };
+            (right, right && on_channel)
+        }
+    };
+    NamedCause {
+        kind,
+        channel,
+        runs,
+        right,
+        right_channel,
+    }
+}
+
+/// The named causes of `v` judged against `hidden`, and whether the verdict is a confident
+/// misattribution (explained, partly explained or not separable, and every named cause wrong).
+pub fn misattribution(hidden: Option<&HiddenEffect>, v: &Verdict) -> (Vec<NamedCause>, bool) {
+    let causes: Vec<NamedCause> = named_causes(v)
+        .into_iter()
+        .map(|c| judge(hidden, c))
+        .collect();
+    let confident = matches!(
+        v,
+        Verdict::Explained { .. } | Verdict::PartlyExplained { .. } | Verdict::NotSeparable { .. }
+    );
+    let wrong = confident && !causes.is_empty() && causes.iter().all(|c| !c.right);
+    (causes, wrong)
+}
+
+/// The sections of a suite, in report order (see [`CaseAnswer::section`]).
+pub const SECTIONS: [&str; 6] = [
+    "null",
+    "in-catalogue",
+    "out-of-catalogue",
+    "time-local",
+    "wide time-local",
+    "different histories",
+];
 
 /// The suite's grades.
 #[derive(Clone, Debug, Serialize)]
@@ -72,6 +207,23 @@ pub struct Grades {
     pub time_local_found_on_channel: (usize, usize),
     /// Null cases with a time-local event outside the catalogue / null cases.
     pub time_local_false_alarms: (usize, usize),
+    /// The same as [`Self::time_local_found`] over the widened draw's cases in navigation runs
+    /// (those of the calibration run only have no onset to locate).
+    #[serde(default)]
+    pub wide_time_local_found: (usize, usize),
+    /// The same with the channel the event's own.
+    #[serde(default)]
+    pub wide_time_local_found_on_channel: (usize, usize),
+    /// Confident misattributions / cases graded.
+    #[serde(default)]
+    pub confident_misattributions: (usize, usize),
+    /// The same per section (`null`, `in-catalogue`, `out-of-catalogue`, `time-local`,
+    /// `wide time-local`, `different histories`; only those with cases).
+    #[serde(default)]
+    pub misattributions_by_section: BTreeMap<String, (usize, usize)>,
+    /// The cases with a confident misattribution.
+    #[serde(default)]
+    pub misattributed_cases: Vec<String>,
 }
 
 fn outcome_of(v: &Verdict) -> (String, Option<String>) {
@@ -80,8 +232,23 @@ fn outcome_of(v: &Verdict) -> (String, Option<String>) {
         Verdict::Explained { by } => (by.clone(), Some(by.clone())),
         Verdict::PartlyExplained { by } => (format!("partly: {by}"), Some(by.clone())),
         Verdict::Unexplained => ("unexplained".into(), None),
-        Verdict::NotSeparable { candidates } => (
-            format!("not separable: {}", candidates.join(" / ")),
+        Verdict::NotSeparable {
+            candidates,
+            time_local,
+        } => (
+            format!(
+                "not separable: {}",
+                candidates
+                    .iter()
+                    .cloned()
+                    .chain(
+                        time_local
+                            .iter()
+                            .map(|t| format!("{} {} ({})", t.kind, t.channel, t.runs))
+                    )
+                    .collect::<Vec<_>>()
+                    .join(" / ")
+            ),
             candidates.first().cloned(),
         ),
     }
@@ -150,7 +317,14 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
             rms_shrinkage_percent: mean(&|v| v.rms_shrinkage_percent, &|_| true),
             time_local: time_local::grade_case(a, d),
             unexplained_event: time_local::has_unexplained_event(d),
+            named_causes: Vec::new(),
+            confident_misattribution: false,
         });
+        let (causes, wrong) = misattribution(hidden, &d.verdict);
+        if let Some(g) = out.last_mut() {
+            g.named_causes = causes;
+            g.confident_misattribution = wrong;
+        }
     }
     let inside = |g: &&CaseGrade| g.answer.hidden.as_ref().is_some_and(|h| h.in_catalogue);
     let scored: Vec<&CaseGrade> = out
@@ -174,21 +348,43 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
                 .is_some_and(|h| !h.in_catalogue && !h.drawn_time_local())
         })
         .collect();
-    let tl: Vec<&TimeLocalGrade> = out
+    // The original time-local figures over the cases of the original draws; the widened
+    // draw's own figures over its cases in navigation runs.
+    let located = |wide: bool| {
+        let tl: Vec<&TimeLocalGrade> = out
+            .iter()
+            .filter(|g| g.answer.hidden.as_ref().is_some_and(|h| h.drawn_wide()) == wide)
+            .filter_map(|g| g.time_local.as_ref())
+            .filter(|t| t.above_detectable && t.onset_graded)
+            .collect();
+        (
+            (
+                tl.iter().filter(|t| t.onset_within_3_sigma).count(),
+                tl.len(),
+            ),
+            (
+                tl.iter()
+                    .filter(|t| t.onset_within_3_sigma && !t.as_alternative)
+                    .count(),
+                tl.len(),
+            ),
+        )
+    };
+    let (time_local_found, time_local_found_on_channel) = located(false);
+    let (wide_time_local_found, wide_time_local_found_on_channel) = located(true);
+    let mut misattributions_by_section: BTreeMap<String, (usize, usize)> = BTreeMap::new();
+    for g in &out {
+        let e = misattributions_by_section
+            .entry(g.answer.section().to_string())
+            .or_default();
+        e.0 += usize::from(g.confident_misattribution);
+        e.1 += 1;
+    }
+    let misattributed_cases: Vec<String> = out
         .iter()
-        .filter_map(|g| g.time_local.as_ref())
-        .filter(|t| t.above_detectable)
+        .filter(|g| g.confident_misattribution)
+        .map(|g| g.answer.case.clone())
         .collect();
-    let time_local_found = (
-        tl.iter().filter(|t| t.onset_within_3_sigma).count(),
-        tl.len(),
-    );
-    let time_local_found_on_channel = (
-        tl.iter()
-            .filter(|t| t.onset_within_3_sigma && !t.as_alternative)
-            .count(),
-        tl.len(),
-    );
     let time_local_false_alarms = (
         nulls.iter().filter(|g| g.unexplained_event).count(),
         nulls.len(),
@@ -236,8 +432,79 @@ pub fn grade(cases: &[(CaseAnswer, Diagnosis)]) -> Grades {
         time_local_found,
         time_local_found_on_channel,
         time_local_false_alarms,
+        wide_time_local_found,
+        wide_time_local_found_on_channel,
+        confident_misattributions: (misattributed_cases.len(), out.len()),
+        misattributions_by_section,
+        misattributed_cases,
         cases: out,
     }
+}
+
+/// The confident misattributions as Markdown: the figure overall and per section, and the
+/// cases.
+fn render_misattributions(g: &Grades) -> String {
+    let mut md = String::from(
+        "\n## Confident misattributions\n\nA verdict of explained, partly explained or not \
+         separable that names only wrong causes. A named cause is right when it is the hidden \
+         kind, or, for a hidden effect local in time, a time-local cause on the same sensor \
+         (gyro or accelerometer); for a null case every named cause is wrong. Unexplained and \
+         no significant gap are never misattributions.\n\n",
+    );
+    let mut t = Table::new(["section", "confident misattributions", "target"]);
+    t.row([
+        "all cases".to_string(),
+        frac(g.confident_misattributions),
+        "0".to_string(),
+    ]);
+    for s in SECTIONS {
+        if let Some(&c) = g.misattributions_by_section.get(s) {
+            t.row([s.to_string(), frac(c), "0".to_string()]);
+        }
+    }
+    let _ = writeln!(md, "{t}");
+    let wrong: Vec<&CaseGrade> = g
+        .cases
+        .iter()
+        .filter(|c| c.confident_misattribution)
+        .collect();
+    if !wrong.is_empty() {
+        let mut t = Table::new(["case", "section", "hidden", "verdict", "named causes"]);
+        for c in wrong {
+            t.row([
+                c.answer.case.clone(),
+                c.answer.section().to_string(),
+                c.answer.hidden.as_ref().map_or("none".into(), |h| {
+                    format!("{} {}", h.kind, h.component_label)
+                }),
+                c.outcome.clone(),
+                c.named_causes
+                    .iter()
+                    .map(NamedCause::label)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            ]);
+        }
+        let _ = writeln!(md, "{t}");
+    }
+    let right_channel: Vec<&str> = g
+        .cases
+        .iter()
+        .filter(|c| {
+            c.named_causes
+                .iter()
+                .any(|n| n.right_channel && n.channel.is_some())
+        })
+        .map(|c| c.answer.case.as_str())
+        .collect();
+    if !right_channel.is_empty() {
+        let _ = writeln!(
+            md,
+            "Verdicts naming a time course on the hidden effect's own channel: {}.\n",
+            right_channel.join(", ")
+        );
+    }
+    md
 }
 
 fn frac((k, n): (usize, usize)) -> String {
@@ -277,6 +544,11 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
             "fitted magnitudes within 3 sigma of the hidden truth",
             g.magnitudes_within_3_sigma,
             "all",
+        ),
+        (
+            "confident misattributions (a verdict that names only wrong causes)",
+            g.confident_misattributions,
+            "0",
         ),
     ] {
         t.row([figure.to_string(), frac(counts), target.to_string()]);
@@ -377,14 +649,21 @@ pub fn render_grades(g: &Grades, suite_sha256: &str) -> String {
         .filter_map(|c| c.time_local.as_ref().map(|t| (&c.answer, t)))
         .collect();
     if !rows.is_empty() || g.time_local_false_alarms.1 > 0 {
+        let wide = g
+            .cases
+            .iter()
+            .any(|c| c.answer.hidden.as_ref().is_some_and(|h| h.drawn_wide()))
+            .then_some((g.wide_time_local_found, g.wide_time_local_found_on_channel));
         md.push_str(&time_local::render(
             &rows,
             g.time_local_found,
             g.time_local_found_on_channel,
             g.time_local_false_alarms,
+            wide,
             frac,
         ));
     }
+    md.push_str(&render_misattributions(g));
     md
 }
 
@@ -468,6 +747,8 @@ mod tests {
             notes: vec![],
             events: Default::default(),
             noise_untrusted: vec![],
+            rivals: vec![],
+            confound: vec![],
         }
     }
 
@@ -516,7 +797,10 @@ mod tests {
                 onset_s: None,
                 time_constant_s: None,
                 run: None,
+                duration_s: None,
+                scope: None,
             }),
+            navigation_experiment: None,
         }
     }
 
@@ -670,5 +954,255 @@ mod tests {
         assert!(md.contains(
             "| top-1 identification, in-catalogue cases above the detectable level | 1 / 2 (50 %) |"
         ));
+    }
+
+    fn alternative(kind: &str, channel: &str, runs: &str) -> sins_diag::TimeCourseAlternative {
+        sins_diag::TimeCourseAlternative {
+            kind: kind.into(),
+            channel: channel.into(),
+            runs: runs.into(),
+            shape: "ramp".into(),
+            onset_s: 3600.0,
+            time_s: None,
+            size: 1.0,
+            unit: "u".into(),
+            dchi2: 30.0,
+        }
+    }
+
+    /// A hidden effect of `kind` on component `c` (label x, y, z).
+    fn hidden(case: &str, kind: &str, c: usize) -> CaseAnswer {
+        let k = EffectKind::from_name(kind).unwrap();
+        let mut a = answer(case, Some((kind, k.in_catalogue(), 1.0)));
+        if let Some(h) = a.hidden.as_mut() {
+            h.component = c;
+            h.component_label = ["x", "y", "z"][c].into();
+            if k.is_time_local() {
+                h.onset_s = Some(10_000.0);
+            }
+        }
+        a
+    }
+
+    #[test]
+    fn confident_misattributions_follow_each_rule() {
+        let explained = |by: &str| Verdict::Explained { by: by.into() };
+        let not_sep =
+            |c: &[&str], t: Vec<sins_diag::TimeCourseAlternative>| Verdict::NotSeparable {
+                candidates: c.iter().map(|s| s.to_string()).collect(),
+                time_local: t,
+            };
+        let plateau = |case: &str| {
+            let mut a = hidden(case, "accel_bias_plateau", 0);
+            if let Some(h) = a.hidden.as_mut() {
+                h.scope = Some(crate::blind::plan::EventScope::AllNavigationRuns);
+                h.duration_s = Some(5400.0);
+            }
+            a
+        };
+        let mut histories = hidden("h1", "thermal_lag", 2);
+        histories.navigation_experiment = Some("navigation_varied_histories".into());
+        let d = |v: Verdict| diagnosis(v, None);
+        // (answer, verdict, confident misattribution, a cause on the right channel)
+        let table: Vec<(CaseAnswer, Verdict, bool, bool)> = vec![
+            // A null case: any named cause is wrong; no gap is never a misattribution.
+            (answer("n1", None), explained("gyro_bias_temp"), true, false),
+            (answer("n2", None), Verdict::NoSignificantGap, false, false),
+            (
+                answer("n3", None),
+                not_sep(&[], vec![alternative("gyro_bias_step", "gyro x", "nav1")]),
+                true,
+                false,
+            ),
+            // In the catalogue: the hidden kind is right, another is wrong; one right cause
+            // among several is enough.
+            (
+                hidden("c1", "gyro_bias_temp", 0),
+                explained("gyro_bias_temp"),
+                false,
+                true,
+            ),
+            (
+                hidden("c2", "size_effect", 0),
+                explained("gyro_bias_temp"),
+                true,
+                false,
+            ),
+            (
+                hidden("c3", "size_effect", 0),
+                not_sep(&["gyro_bias_temp", "size_effect"], vec![]),
+                false,
+                true,
+            ),
+            // Partly explained names a cause as well.
+            (
+                hidden("c4", "accel_time_offset", 1),
+                Verdict::PartlyExplained {
+                    by: "size_effect".into(),
+                },
+                true,
+                false,
+            ),
+            // Outside the catalogue: unexplained is right, a catalogue name is not.
+            (
+                hidden("o1", "gyro_bias_oscillation", 0),
+                Verdict::Unexplained,
+                false,
+                false,
+            ),
+            (
+                hidden("o2", "accel_cross_coupling", 0),
+                explained("accel_quadratic_nonlinearity"),
+                true,
+                false,
+            ),
+            // Time-local: a time course on the same sensor is right (another channel or
+            // shape included), one on the other sensor is not, a catalogue kind is not.
+            (
+                plateau("w1"),
+                not_sep(
+                    &["gyro_bias_temp_rate"],
+                    vec![alternative("accel_bias_ramp", "accel y", "all runs")],
+                ),
+                false,
+                false,
+            ),
+            (
+                plateau("w2"),
+                not_sep(
+                    &["thermal_lag"],
+                    vec![alternative("gyro_bias_step", "gyro x", "all runs")],
+                ),
+                true,
+                false,
+            ),
+            (plateau("w3"), explained("gyro_bias_temp_rate"), true, false),
+            (
+                hidden("t1", "gyro_bias_transient", 1),
+                not_sep(
+                    &[],
+                    vec![alternative("gyro_bias_transient", "gyro y", "all runs")],
+                ),
+                false,
+                true,
+            ),
+            (
+                hidden("t2", "gyro_bias_step", 2),
+                explained("gyro_bias_random_walk"),
+                true,
+                false,
+            ),
+            // The original accelerometer step is time-local too.
+            (
+                hidden("t3", "accel_bias_step", 1),
+                not_sep(
+                    &["thermal_lag"],
+                    vec![alternative("accel_bias_step", "accel y", "nav2")],
+                ),
+                false,
+                true,
+            ),
+            // Different histories: an in-catalogue case like any other.
+            (
+                histories,
+                not_sep(&["thermal_lag", "accel_bias_temp_rate"], vec![]),
+                false,
+                true,
+            ),
+            // Not separable naming nothing names no wrong cause.
+            (
+                hidden("e1", "size_effect", 0),
+                not_sep(&[], vec![]),
+                false,
+                false,
+            ),
+        ];
+        for (a, v, wrong, channel) in &table {
+            let (causes, got) = misattribution(a.hidden.as_ref(), v);
+            assert_eq!(got, *wrong, "{}: {causes:?}", a.case);
+            assert_eq!(
+                causes.iter().any(|c| c.right_channel),
+                *channel,
+                "{}: {causes:?}",
+                a.case
+            );
+        }
+        let cases: Vec<(CaseAnswer, Diagnosis)> = table
+            .iter()
+            .map(|(a, v, ..)| (a.clone(), d(v.clone())))
+            .collect();
+        let g = grade(&cases);
+        let want: Vec<&str> = table
+            .iter()
+            .filter(|t| t.2)
+            .map(|t| t.0.case.as_str())
+            .collect();
+        assert_eq!(g.misattributed_cases, want);
+        assert_eq!(g.confident_misattributions, (want.len(), table.len()));
+        assert_eq!(g.misattributions_by_section["null"], (2, 3));
+        assert_eq!(g.misattributions_by_section["in-catalogue"], (2, 5));
+        assert_eq!(g.misattributions_by_section["out-of-catalogue"], (1, 2));
+        assert_eq!(g.misattributions_by_section["wide time-local"], (2, 3));
+        // t1, t2, t3: the time-local section (drawn onsets).
+        assert_eq!(g.misattributions_by_section["time-local"], (1, 3));
+        assert_eq!(g.misattributions_by_section["different histories"], (0, 1));
+        let md = render_grades(&g, "x");
+        assert!(md.contains("## Confident misattributions"));
+        assert!(md.contains("| all cases | 8 / 17 (47 %) | 0 |"), "{md}");
+        assert!(
+            md.contains("| w2 | wide time-local | accel_bias_plateau x |"),
+            "{md}"
+        );
+        assert!(md.contains("not separable: thermal_lag / gyro_bias_step gyro x (all runs)"));
+    }
+
+    #[test]
+    fn wide_cases_are_located_in_their_runs_and_calibration_only_ones_are_not_graded() {
+        use crate::blind::plan::{CALIBRATION_SCOPE, EventScope};
+        let wide = |case: &str, scope: EventScope, run: Option<&str>| {
+            let mut a = hidden(case, "gyro_bias_pulse", 1);
+            if let Some(h) = a.hidden.as_mut() {
+                h.scope = Some(scope);
+                h.run = run.map(Into::into);
+                h.duration_s = Some(3600.0);
+            }
+            a
+        };
+        let with = |events: Vec<TimeLocalEvent>| {
+            let mut d = diagnosis(Verdict::Unexplained, None);
+            d.events.events = events;
+            d
+        };
+        let cases = vec![
+            // Common to every navigation run: an event in any of them counts.
+            (
+                wide("w1", EventScope::AllNavigationRuns, None),
+                with(vec![event("nav2", "gyro y", 10_300.0, 200.0)]),
+            ),
+            // One run: the other run's event does not.
+            (
+                wide("w2", EventScope::OneRun, Some("nav1")),
+                with(vec![event("nav2", "gyro y", 10_000.0, 200.0)]),
+            ),
+            // Calibration only: nothing to locate in the navigation runs, not graded.
+            (
+                wide("w3", EventScope::CalibrationOnly, Some(CALIBRATION_SCOPE)),
+                with(vec![]),
+            ),
+            // An original time-local case keeps its own figure.
+            (
+                hidden("t1", "gyro_bias_step", 1),
+                with(vec![event("nav1", "gyro y", 10_000.0, 200.0)]),
+            ),
+        ];
+        let g = grade(&cases);
+        assert_eq!(g.wide_time_local_found, (1, 2));
+        assert_eq!(g.wide_time_local_found_on_channel, (1, 2));
+        assert_eq!(g.time_local_found, (1, 1));
+        let t3 = g.cases[2].time_local.as_ref().unwrap();
+        assert!(!t3.onset_graded && t3.shape == "pulse");
+        let md = render_grades(&g, "x");
+        assert!(md.contains("widened draw: reported with the onset within 3 sigma"));
+        assert!(md.contains("calibration only"));
     }
 }

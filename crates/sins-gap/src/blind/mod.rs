@@ -13,7 +13,11 @@
 //!    diagnoses graded ([`grade::grade`]): top-1 identification, false alarms, out-of-catalogue
 //!    reports, fitted magnitudes against the truth, gap shrinkage on withheld runs, and the
 //!    confusion table; for the time-local cases (steps, ramps, transients drawn after the
-//!    others, [`time_local`]) whether the event was reported on its channel with its onset.
+//!    others, [`time_local`]) whether the event was reported on its channel with its onset;
+//!    the widened draw (ramps to a plateau, pulses, decaying oscillations; in one run, in every
+//!    navigation run, or in the calibration run only) and the cases whose runs have different
+//!    chamber histories; and the confident misattributions (a verdict that names only wrong
+//!    causes).
 
 pub mod grade;
 pub mod plan;

@@ -14,6 +14,46 @@ pub struct CaseAnswer {
     pub seed: u64,
     /// The hidden effect, if any.
     pub hidden: Option<HiddenEffect>,
+    /// The navigation experiment whose runs this case records, by its `name`, when it is not
+    /// the suite's own (the "different histories" cases: [`SuiteShape::histories_experiment`]);
+    /// `None`: the suite's navigation experiment.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub navigation_experiment: Option<String>,
+}
+
+/// Name of each case's calibration run among its datasets.
+pub const CALIBRATION_RUN: &str = "cal";
+
+/// The value of [`HiddenEffect::run`] for an effect in the calibration run only.
+pub const CALIBRATION_SCOPE: &str = "calibration";
+
+/// True for the name of the calibration run ([`CALIBRATION_RUN`] or [`CALIBRATION_SCOPE`]).
+pub fn is_calibration_run(name: &str) -> bool {
+    name == CALIBRATION_RUN || name == CALIBRATION_SCOPE
+}
+
+/// Where a time-local effect of the widened draw acts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EventScope {
+    /// One navigation run ([`HiddenEffect::run`] names it).
+    OneRun,
+    /// Every navigation run, at the same time on each run's axis (a common time course); not
+    /// the calibration run.
+    AllNavigationRuns,
+    /// The calibration run only ([`HiddenEffect::run`] is [`CALIBRATION_SCOPE`]).
+    CalibrationOnly,
+}
+
+impl EventScope {
+    /// Short label for reports.
+    pub fn label(self) -> &'static str {
+        match self {
+            EventScope::OneRun => "one run",
+            EventScope::AllNavigationRuns => "every navigation run",
+            EventScope::CalibrationOnly => "calibration only",
+        }
+    }
 }
 
 /// A hidden effect.
@@ -39,10 +79,19 @@ pub struct HiddenEffect {
     /// Time constant of a transient (s).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time_constant_s: Option<f64>,
-    /// The one navigation run that carries a time-local effect (`None`: every run, the
-    /// calibration run included, as an effect of turn-on is).
+    /// The one navigation run that carries a time-local effect, or [`CALIBRATION_SCOPE`] for
+    /// the calibration run only (`None`: every run, the calibration run included, as an effect
+    /// of turn-on is; with [`EventScope::AllNavigationRuns`] every navigation run only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub run: Option<String>,
+    /// Rise time of a ramp to a plateau, duration of a pulse, period of a decaying oscillation
+    /// (s; the widened time-local draw).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration_s: Option<f64>,
+    /// Where a time-local effect of the widened draw acts (`None`: the original draws, whose
+    /// scope [`Self::run`] alone says).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scope: Option<EventScope>,
 }
 
 impl HiddenEffect {
@@ -64,9 +113,26 @@ impl HiddenEffect {
         self.onset_s.is_some()
     }
 
-    /// Whether the effect is injected into run `name` (`calibration`: the calibration run).
+    /// Whether the effect is injected into run `name` (the calibration run is `cal` or
+    /// `calibration`; `all runs` is a time course on every navigation run).
     pub fn acts_on(&self, name: &str) -> bool {
-        self.run.as_deref().is_none_or(|r| r == name)
+        match self.run.as_deref() {
+            Some(CALIBRATION_SCOPE) => is_calibration_run(name),
+            Some(r) => r == name,
+            None => {
+                !(self.scope == Some(EventScope::AllNavigationRuns) && is_calibration_run(name))
+            }
+        }
+    }
+
+    /// True for a case of the widened time-local draw ([`SuiteShape::wide_time_local`]).
+    pub fn drawn_wide(&self) -> bool {
+        self.scope.is_some()
+    }
+
+    /// True when the effect acts in the calibration run only.
+    pub fn calibration_only(&self) -> bool {
+        self.run.as_deref() == Some(CALIBRATION_SCOPE)
     }
 }
 
@@ -93,12 +159,36 @@ impl CaseAnswer {
             *onset_s = h.onset_s.unwrap_or(*onset_s);
             *time_constant_s = h.time_constant_s.unwrap_or(*time_constant_s);
         }
+        if let EffectSpec::BiasProfile {
+            onset_s,
+            duration_s,
+            time_constant_s,
+            ..
+        } = &mut spec
+        {
+            *onset_s = h.onset_s.unwrap_or(*onset_s);
+            *duration_s = h.duration_s.unwrap_or(*duration_s);
+            *time_constant_s = h.time_constant_s.unwrap_or(*time_constant_s);
+        }
         Some(spec)
+    }
+
+    /// The section of the suite the case belongs to: `null`, `in-catalogue`,
+    /// `out-of-catalogue`, `time-local`, `wide time-local` or `different histories`.
+    pub fn section(&self) -> &'static str {
+        match &self.hidden {
+            None => "null",
+            Some(_) if self.navigation_experiment.is_some() => "different histories",
+            Some(h) if h.drawn_wide() => "wide time-local",
+            Some(h) if h.drawn_time_local() => "time-local",
+            Some(h) if h.in_catalogue => "in-catalogue",
+            Some(_) => "out-of-catalogue",
+        }
     }
 }
 
 /// How many cases of each sort.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, PartialEq, Serialize, Deserialize)]
 pub struct SuiteShape {
     /// All cases.
     pub cases: usize,
@@ -126,6 +216,62 @@ pub struct SuiteShape {
     /// Onsets of steps, ramps and mid-run transients are drawn uniformly in this window (s).
     #[serde(default = "default_onset_window_s")]
     pub onset_window_s: (f64, f64),
+    /// Cases of the widened time-local draw, after the `time_local` ones, from a stream of
+    /// their own: shapes in turn (step, ramp, ramp to a plateau, pulse, transient, decaying
+    /// oscillation), gyro or accelerometer, in one navigation run, in every navigation run at
+    /// the same time, or in the calibration run only (see [`draw_cases`]).
+    #[serde(default)]
+    pub wide_time_local: usize,
+    /// Onsets of the widened draw's events in the calibration run, uniform in this window (s;
+    /// the calibration run lasts 4.2 h, its first 20 min are the alignment).
+    #[serde(default = "default_calibration_onset_window_s")]
+    pub calibration_onset_window_s: (f64, f64),
+    /// Cases with an in-catalogue temperature-driven effect whose navigation runs have markedly
+    /// different chamber histories ([`Self::histories_experiment`]), after the widened ones,
+    /// from a stream of their own.
+    #[serde(default)]
+    pub different_histories: usize,
+    /// The `name` of the navigation experiment of those cases (the file is the suite's
+    /// configuration's: `SuiteConfig::histories_experiment`).
+    #[serde(default = "default_histories_experiment")]
+    pub histories_experiment: String,
+}
+
+impl std::fmt::Debug for SuiteShape {
+    /// The fields of the original suites always; the widened draw's only when it draws cases
+    /// (campaign fingerprints hold the shape's `Debug`: those planned before these fields
+    /// existed keep theirs).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut d = f.debug_struct("SuiteShape");
+        d.field("cases", &self.cases)
+            .field("null_cases", &self.null_cases)
+            .field("out_of_catalogue", &self.out_of_catalogue)
+            .field("times_typical", &self.times_typical)
+            .field("outside_times_typical", &self.outside_times_typical)
+            .field("time_local", &self.time_local)
+            .field("time_local_times_typical", &self.time_local_times_typical)
+            .field("time_local_runs", &self.time_local_runs)
+            .field("onset_window_s", &self.onset_window_s);
+        if self.wide_time_local > 0 {
+            d.field("wide_time_local", &self.wide_time_local).field(
+                "calibration_onset_window_s",
+                &self.calibration_onset_window_s,
+            );
+        }
+        if self.different_histories > 0 {
+            d.field("different_histories", &self.different_histories)
+                .field("histories_experiment", &self.histories_experiment);
+        }
+        d.finish()
+    }
+}
+
+fn default_calibration_onset_window_s() -> (f64, f64) {
+    (1800.0, 9000.0)
+}
+
+fn default_histories_experiment() -> String {
+    "navigation_varied_histories".into()
 }
 
 fn default_time_local_times_typical() -> (f64, f64) {
@@ -158,6 +304,10 @@ impl Default for SuiteShape {
             time_local_times_typical: default_time_local_times_typical(),
             time_local_runs: default_time_local_runs(),
             onset_window_s: default_onset_window_s(),
+            wide_time_local: 0,
+            calibration_onset_window_s: default_calibration_onset_window_s(),
+            different_histories: 0,
+            histories_experiment: default_histories_experiment(),
         }
     }
 }
@@ -232,15 +382,20 @@ pub fn draw_cases(shape: &SuiteShape, suite_seed: u64) -> Vec<CaseAnswer> {
                     onset_s: None,
                     time_constant_s: None,
                     run: None,
+                    duration_s: None,
+                    scope: None,
                 }
             });
             CaseAnswer {
                 case: format!("case{:02}", i + 1),
                 seed,
                 hidden,
+                navigation_experiment: None,
             }
         })
         .chain(draw_time_local(shape, suite_seed))
+        .chain(draw_wide_time_local(shape, suite_seed))
+        .chain(draw_different_histories(shape, suite_seed))
         .collect()
 }
 
@@ -251,10 +406,9 @@ pub fn draw_cases(shape: &SuiteShape, suite_seed: u64) -> Vec<CaseAnswer> {
 fn draw_time_local(shape: &SuiteShape, suite_seed: u64) -> Vec<CaseAnswer> {
     let mut rng = ChaCha8Rng::seed_from_u64(suite_seed ^ 0x7133_10ca_1000);
     let mut uniform = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-    let kinds: Vec<EffectKind> = EffectKind::ALL
-        .into_iter()
-        .filter(|k| k.is_time_local())
-        .collect();
+    // The six kinds of the original draw, explicitly: the kinds added since (plateaus, pulses,
+    // decaying oscillations) have a draw of their own, so that a seed draws the same cases.
+    let kinds = EffectKind::ORIGINAL_TIME_LOCAL;
     (0..shape.time_local)
         .map(|j| {
             let i = shape.cases + j;
@@ -300,7 +454,192 @@ fn draw_time_local(shape: &SuiteShape, suite_seed: u64) -> Vec<CaseAnswer> {
                     onset_s: Some(onset),
                     time_constant_s: tau,
                     run,
+                    duration_s: None,
+                    scope: None,
                 }),
+                navigation_experiment: None,
+            }
+        })
+        .collect()
+}
+
+/// The shapes of the widened time-local draw, in turn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum WideShape {
+    Step,
+    Ramp,
+    Plateau,
+    Pulse,
+    Transient,
+    DecayingOscillation,
+}
+
+const WIDE_SHAPES: [WideShape; 6] = [
+    WideShape::Step,
+    WideShape::Ramp,
+    WideShape::Plateau,
+    WideShape::Pulse,
+    WideShape::Transient,
+    WideShape::DecayingOscillation,
+];
+
+/// Rise time of a ramp to a plateau: uniform in this range (h).
+pub const WIDE_RISE_H: (f64, f64) = (0.5, 3.0);
+/// Duration of a pulse: uniform in this range (h).
+pub const WIDE_PULSE_H: (f64, f64) = (0.25, 2.0);
+/// Period of a decaying oscillation: uniform in this range (h).
+pub const WIDE_PERIOD_H: (f64, f64) = (1.0, 4.0);
+/// Decay time constant of a decaying oscillation: uniform in this range (h).
+pub const WIDE_DECAY_H: (f64, f64) = (1.0, 6.0);
+/// Time constant of a transient: log-uniform in this range (s; as the original draw).
+pub const WIDE_TRANSIENT_S: (f64, f64) = (600.0, 5400.0);
+
+fn wide_kind(shape: WideShape, gyro: bool) -> EffectKind {
+    use EffectKind as K;
+    match (shape, gyro) {
+        (WideShape::Step, true) => K::GyroBiasStep,
+        (WideShape::Step, false) => K::AccelBiasStep,
+        (WideShape::Ramp, true) => K::GyroBiasRamp,
+        (WideShape::Ramp, false) => K::AccelBiasRamp,
+        (WideShape::Plateau, true) => K::GyroBiasPlateau,
+        (WideShape::Plateau, false) => K::AccelBiasPlateau,
+        (WideShape::Pulse, true) => K::GyroBiasPulse,
+        (WideShape::Pulse, false) => K::AccelBiasPulse,
+        (WideShape::Transient, true) => K::GyroBiasTransient,
+        (WideShape::Transient, false) => K::AccelBiasTransient,
+        (WideShape::DecayingOscillation, true) => K::GyroBiasDecayingOscillation,
+        (WideShape::DecayingOscillation, false) => K::AccelBiasDecayingOscillation,
+    }
+}
+
+/// The widened time-local cases (numbered after the `time_local` ones), from a stream of their
+/// own. Case `j` has the shape `j mod 6` (step, ramp, ramp to a plateau, pulse, transient,
+/// decaying oscillation); with `v = j + ⌊j/6⌋`, the gyros when `v` is even (the accelerometers
+/// otherwise) and the scope `v mod 3` (one navigation run, every navigation run at the same
+/// time, the calibration run only): over 36 cases every shape meets every sensor and scope.
+/// At random: the channel (gyro x, y, z; accelerometer x, y, as in the original draw), sign,
+/// size (log-uniform in [`SuiteShape::time_local_times_typical`] times typical), onset
+/// (uniform in [`SuiteShape::onset_window_s`] for the navigation runs,
+/// [`SuiteShape::calibration_onset_window_s`] for the calibration run), the shape's times
+/// ([`WIDE_RISE_H`], [`WIDE_PULSE_H`], [`WIDE_PERIOD_H`] with [`WIDE_DECAY_H`],
+/// [`WIDE_TRANSIENT_S`]) and, for one run, which of [`SuiteShape::time_local_runs`].
+fn draw_wide_time_local(shape: &SuiteShape, suite_seed: u64) -> Vec<CaseAnswer> {
+    let mut rng = ChaCha8Rng::seed_from_u64(suite_seed ^ 0x0001_d0e7_10ca_1e00);
+    let mut uniform = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    let first = shape.cases + shape.time_local;
+    (0..shape.wide_time_local)
+        .map(|j| {
+            let i = first + j;
+            let v = j + j / 6;
+            let form = WIDE_SHAPES[j % 6];
+            let gyro = v % 2 == 0;
+            let scope = [
+                EventScope::OneRun,
+                EventScope::AllNavigationRuns,
+                EventScope::CalibrationOnly,
+            ][v % 3];
+            let k = wide_kind(form, gyro);
+            let axes = if gyro { 3.0 } else { 2.0 };
+            let component = ((uniform() * axes) as usize).min(2);
+            let (lo, hi) = shape.time_local_times_typical;
+            let times = round_sig(lo * (hi / lo).powf(uniform()), 6);
+            let sign = if uniform() < 0.5 { -1.0 } else { 1.0 };
+            let (w0, w1) = match scope {
+                EventScope::CalibrationOnly => shape.calibration_onset_window_s,
+                _ => shape.onset_window_s,
+            };
+            let onset = round_sig(w0 + (w1 - w0) * uniform(), 6);
+            let hours = |(a, b): (f64, f64), u: f64| round_sig(3600.0 * (a + (b - a) * u), 4);
+            let (duration, tau) = match form {
+                WideShape::Step | WideShape::Ramp => (None, None),
+                WideShape::Plateau => (Some(hours(WIDE_RISE_H, uniform())), None),
+                WideShape::Pulse => (Some(hours(WIDE_PULSE_H, uniform())), None),
+                WideShape::Transient => {
+                    let (a, b) = WIDE_TRANSIENT_S;
+                    (None, Some(round_sig(a * (b / a).powf(uniform()), 4)))
+                }
+                WideShape::DecayingOscillation => {
+                    let period = hours(WIDE_PERIOD_H, uniform());
+                    (Some(period), Some(hours(WIDE_DECAY_H, uniform())))
+                }
+            };
+            let runs = &shape.time_local_runs;
+            let run = match scope {
+                EventScope::OneRun => (!runs.is_empty()).then(|| {
+                    runs[((uniform() * runs.len() as f64) as usize).min(runs.len() - 1)].clone()
+                }),
+                EventScope::AllNavigationRuns => None,
+                EventScope::CalibrationOnly => Some(CALIBRATION_SCOPE.to_string()),
+            };
+            CaseAnswer {
+                case: format!("case{:02}", i + 1),
+                seed: suite_seed.wrapping_mul(1000).wrapping_add(i as u64 + 1),
+                hidden: Some(HiddenEffect {
+                    kind: k.name().to_string(),
+                    in_catalogue: false,
+                    component,
+                    component_label: k.component_labels()[component].to_string(),
+                    magnitude: round_sig(sign * times * k.typical_magnitude(), 6),
+                    unit: k.unit().label.to_string(),
+                    times_typical: times,
+                    onset_s: Some(onset),
+                    time_constant_s: tau,
+                    run,
+                    duration_s: duration,
+                    scope: Some(scope),
+                }),
+                navigation_experiment: None,
+            }
+        })
+        .collect()
+}
+
+/// The temperature-driven kinds of the catalogue, in the order the "different histories"
+/// cases take them.
+pub const TEMPERATURE_DRIVEN: [EffectKind; 5] = [
+    EffectKind::GyroBiasTemp,
+    EffectKind::AccelBiasQuadraticTemp,
+    EffectKind::GyroBiasTempRate,
+    EffectKind::AccelBiasTempRate,
+    EffectKind::ThermalLag,
+];
+
+/// The "different histories" cases (numbered after the widened ones), from a stream of their
+/// own: the [`TEMPERATURE_DRIVEN`] kinds in turn, component, sign and size (log-uniform in
+/// [`SuiteShape::times_typical`]) at random, recorded on the runs of
+/// [`SuiteShape::histories_experiment`].
+fn draw_different_histories(shape: &SuiteShape, suite_seed: u64) -> Vec<CaseAnswer> {
+    let mut rng = ChaCha8Rng::seed_from_u64(suite_seed ^ 0xd1ff_4157_0e1e);
+    let mut uniform = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    let first = shape.cases + shape.time_local + shape.wide_time_local;
+    (0..shape.different_histories)
+        .map(|j| {
+            let i = first + j;
+            let k = TEMPERATURE_DRIVEN[j % TEMPERATURE_DRIVEN.len()];
+            let n = k.n_components();
+            let component = ((uniform() * n as f64) as usize).min(n - 1);
+            let (lo, hi) = shape.times_typical;
+            let times = round_sig(lo * (hi / lo).powf(uniform()), 6);
+            let sign = if uniform() < 0.5 { -1.0 } else { 1.0 };
+            let sign = if k.is_linear() { sign } else { 1.0 };
+            CaseAnswer {
+                case: format!("case{:02}", i + 1),
+                seed: suite_seed.wrapping_mul(1000).wrapping_add(i as u64 + 1),
+                hidden: Some(HiddenEffect {
+                    kind: k.name().to_string(),
+                    in_catalogue: true,
+                    component,
+                    component_label: k.component_labels()[component].to_string(),
+                    magnitude: round_sig(sign * times * k.typical_magnitude(), 6),
+                    unit: k.unit().label.to_string(),
+                    times_typical: times,
+                    onset_s: None,
+                    time_constant_s: None,
+                    run: None,
+                    duration_s: None,
+                    scope: None,
+                }),
+                navigation_experiment: Some(shape.histories_experiment.clone()),
             }
         })
         .collect()
@@ -368,7 +707,7 @@ mod tests {
             .filter_map(|c| c.hidden.as_ref())
             .collect();
         assert_eq!(tl.len(), 12);
-        for k in EffectKind::ALL.into_iter().filter(|k| k.is_time_local()) {
+        for k in EffectKind::ORIGINAL_TIME_LOCAL {
             assert!(tl.iter().any(|h| h.kind == k.name()), "{k}");
         }
         for (c, h) in with[30..].iter().zip(&tl) {
@@ -406,5 +745,218 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The suite SHA-256 of the blind45 campaign (seed 5) as sealed by the code before the
+    /// widened draw existed (`sealed/index.json` of a blind45 run).
+    const BLIND45_SUITE_SHA256: &str =
+        "e9da26ec615f3a18987c39d8b4c4d14e7b06e648a076446fcc2d66a62b64eaad";
+
+    fn blind45() -> SuiteShape {
+        SuiteShape {
+            cases: 30,
+            null_cases: 5,
+            out_of_catalogue: 3,
+            time_local: 15,
+            time_local_runs: vec!["nav1".into(), "nav2".into()],
+            ..SuiteShape::default()
+        }
+    }
+
+    #[test]
+    fn blind45_draws_bit_identical_manifests_and_the_wide_cases_come_after() {
+        let dir = tempfile::tempdir().unwrap();
+        let old = draw_cases(&blind45(), 5);
+        let index = crate::blind::seal::seal(dir.path(), 5, &old).unwrap();
+        assert_eq!(index.suite_sha256, BLIND45_SUITE_SHA256);
+        // blind30 is its first 30 cases (its own seal is that of the same manifests).
+        let b30 = SuiteShape {
+            time_local: 0,
+            ..blind45()
+        };
+        assert_eq!(draw_cases(&b30, 5), old[..30].to_vec());
+        // The widened sections add cases after the old ones and change none of them; an old
+        // campaign file (no new key) reads as a shape without them.
+        let wide = SuiteShape {
+            wide_time_local: 20,
+            different_histories: 5,
+            ..blind45()
+        };
+        let new = draw_cases(&wide, 5);
+        assert_eq!(new.len(), 70);
+        assert_eq!(&new[..45], &old[..]);
+        let read: SuiteShape = serde_json::from_str(
+            r#"{"cases": 30, "null_cases": 5, "out_of_catalogue": 3, "times_typical": [2.0, 20.0], "time_local": 15}"#,
+        )
+        .unwrap();
+        assert_eq!((read.wide_time_local, read.different_histories), (0, 0));
+        // The shape's Debug (campaign fingerprints) is that of the old fields unless the new
+        // sections draw cases.
+        assert!(!format!("{:?}", blind45()).contains("wide"));
+        assert!(format!("{wide:?}").contains("wide_time_local: 20"));
+    }
+
+    #[test]
+    fn wide_time_local_cases_cover_shapes_sensors_and_scopes_in_their_ranges() {
+        let shape = SuiteShape {
+            wide_time_local: 20,
+            ..blind45()
+        };
+        let all = draw_cases(&shape, 5);
+        assert_eq!(all, draw_cases(&shape, 5));
+        let wide: Vec<&CaseAnswer> = all[45..].iter().collect();
+        assert_eq!(wide.len(), 20);
+        let mut shapes = std::collections::BTreeSet::new();
+        let mut scopes = std::collections::BTreeSet::new();
+        let mut sensors = std::collections::BTreeSet::new();
+        for (j, c) in wide.iter().enumerate() {
+            assert_eq!(c.case, format!("case{:02}", 46 + j));
+            assert_eq!(c.section(), "wide time-local");
+            let h = c.hidden.as_ref().unwrap();
+            let kind = EffectKind::from_name(&h.kind).unwrap();
+            assert!(kind.is_time_local() && !h.in_catalogue && h.drawn_time_local());
+            shapes.insert(j % 6);
+            sensors.insert(format!("{:?}", kind.sensor()));
+            let scope = h.scope.unwrap();
+            scopes.insert(format!("{scope:?}"));
+            if kind.sensor() == sins_imu::effects::Sensor::Accel {
+                assert!(h.component < 2, "{h:?}");
+            }
+            assert!((2.99..=30.01).contains(&h.times_typical), "{h:?}");
+            let onset = h.onset_time_s();
+            let in_h = |x: Option<f64>, (a, b): (f64, f64)| {
+                x.is_some_and(|x| (3600.0 * a - 1.0..=3600.0 * b + 1.0).contains(&x))
+            };
+            match scope {
+                EventScope::OneRun => {
+                    assert!(shape.time_local_runs.contains(h.run.as_ref().unwrap()));
+                    assert!((3600.0..=39_600.0).contains(&onset));
+                    assert!(h.acts_on("nav1") != h.acts_on("nav2"));
+                    assert!(!h.acts_on(CALIBRATION_RUN));
+                }
+                EventScope::AllNavigationRuns => {
+                    assert_eq!(h.run, None);
+                    assert!((3600.0..=39_600.0).contains(&onset));
+                    assert!(h.acts_on("nav1") && h.acts_on("nav2") && h.acts_on("all runs"));
+                    assert!(!h.acts_on(CALIBRATION_RUN));
+                }
+                EventScope::CalibrationOnly => {
+                    assert!(h.calibration_only());
+                    assert!((1800.0..=9000.0).contains(&onset));
+                    assert!(h.acts_on(CALIBRATION_RUN) && h.acts_on(CALIBRATION_SCOPE));
+                    assert!(!h.acts_on("nav1") && !h.acts_on("nav2"));
+                }
+            }
+            match kind {
+                EffectKind::GyroBiasPlateau | EffectKind::AccelBiasPlateau => {
+                    assert!(in_h(h.duration_s, WIDE_RISE_H), "{h:?}")
+                }
+                EffectKind::GyroBiasPulse | EffectKind::AccelBiasPulse => {
+                    assert!(in_h(h.duration_s, WIDE_PULSE_H), "{h:?}")
+                }
+                EffectKind::GyroBiasDecayingOscillation
+                | EffectKind::AccelBiasDecayingOscillation => {
+                    assert!(in_h(h.duration_s, WIDE_PERIOD_H), "{h:?}");
+                    assert!(in_h(h.time_constant_s, WIDE_DECAY_H), "{h:?}");
+                }
+                EffectKind::GyroBiasTransient | EffectKind::AccelBiasTransient => {
+                    let t = h.time_constant_s.unwrap();
+                    assert!((600.0..=5400.0).contains(&t), "{h:?}");
+                }
+                _ => assert_eq!((h.duration_s, h.time_constant_s), (None, None)),
+            }
+            // The spec carries onset, times and magnitude.
+            let spec = c.spec().unwrap();
+            assert_eq!(spec.kind(), kind);
+            let m = spec.magnitudes_si();
+            assert!(
+                (m[h.component] - kind.unit().to_si(h.magnitude)).abs()
+                    <= 1e-12 * m[h.component].abs()
+            );
+            match spec {
+                EffectSpec::BiasProfile {
+                    onset_s,
+                    duration_s,
+                    time_constant_s,
+                    ..
+                } => {
+                    assert_eq!(onset_s, onset);
+                    assert_eq!(Some(duration_s), h.duration_s);
+                    if let Some(t) = h.time_constant_s {
+                        assert_eq!(time_constant_s, t);
+                    }
+                }
+                EffectSpec::BiasEvent { onset_s, .. } => assert_eq!(onset_s, onset),
+                EffectSpec::AccelBiasStep { time_s, .. } => assert_eq!(time_s, onset),
+                other => panic!("{other:?}"),
+            }
+        }
+        assert_eq!(shapes.len(), 6);
+        assert_eq!(sensors.len(), 2);
+        assert_eq!(scopes.len(), 3);
+        // A manifest reads back to the same answer.
+        for c in &wide {
+            let text = serde_json::to_string_pretty(c).unwrap();
+            assert_eq!(&serde_json::from_str::<CaseAnswer>(&text).unwrap(), *c);
+        }
+    }
+
+    #[test]
+    fn different_history_cases_are_temperature_driven_and_name_their_experiment() {
+        let shape = SuiteShape {
+            wide_time_local: 3,
+            different_histories: 5,
+            ..SuiteShape::default()
+        };
+        let all = draw_cases(&shape, 9);
+        assert_eq!(all.len(), 38);
+        let dh = &all[33..];
+        for (c, k) in dh.iter().zip(TEMPERATURE_DRIVEN) {
+            let h = c.hidden.as_ref().unwrap();
+            assert_eq!(h.kind, k.name());
+            assert!(h.in_catalogue && !h.is_time_local());
+            assert!((1.99..=20.01).contains(&h.times_typical));
+            assert_eq!(
+                c.navigation_experiment.as_deref(),
+                Some("navigation_varied_histories")
+            );
+            assert_eq!(c.section(), "different histories");
+            assert!(h.acts_on(CALIBRATION_RUN) && h.acts_on("nav1"));
+        }
+        // Old answers (no new field) serialize as before.
+        let old = &all[0];
+        assert!(
+            !serde_json::to_string(old)
+                .unwrap()
+                .contains("navigation_experiment")
+        );
+    }
+
+    #[test]
+    fn the_varied_histories_experiment_has_three_distinct_chamber_histories() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments");
+        let paper = sins_config::load_experiment(&dir.join("paper_navigation.toml")).unwrap();
+        let varied =
+            sins_config::load_experiment(&dir.join("blind/navigation_varied_histories.toml"))
+                .unwrap();
+        assert_eq!(varied.name, default_histories_experiment());
+        let names = |e: &sins_config::Experiment| -> Vec<String> {
+            e.scenarios.iter().map(|s| s.name.clone()).collect()
+        };
+        // The same run names, noise and motion as the paper's runs; the histories differ.
+        assert_eq!(names(&varied), names(&paper));
+        for (v, p) in varied.scenarios.iter().zip(&paper.scenarios) {
+            assert_eq!(format!("{:?}", v.noise), format!("{:?}", p.noise));
+            assert_eq!(format!("{:?}", v.motion), format!("{:?}", p.motion));
+            assert_eq!(v.seed, p.seed);
+            assert_eq!(format!("{:?}", v.truth), format!("{:?}", p.truth));
+        }
+        let chambers: Vec<String> = varied
+            .scenarios
+            .iter()
+            .map(|s| format!("{:?}", s.thermal))
+            .collect();
+        assert!(chambers[0] != chambers[1] && chambers[1] != chambers[2]);
+        assert!(chambers[0] != chambers[2]);
     }
 }

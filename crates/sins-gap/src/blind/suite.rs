@@ -2,7 +2,7 @@
 //! navigation datasets, diagnose them blind, and finally open the manifests and grade.
 
 use super::grade::{Grades, grade, render_grades};
-use super::plan::{CaseAnswer, SuiteShape, draw_cases};
+use super::plan::{CALIBRATION_RUN, CaseAnswer, SuiteShape, draw_cases};
 use super::seal::{SealIndex, open, seal};
 use crate::GapError;
 use crate::run::{DiagnoseRequest, diagnose_datasets};
@@ -31,6 +31,10 @@ pub struct SuiteConfig {
     pub calibration_experiment: PathBuf,
     /// The navigation experiment whose runs each case records.
     pub navigation_experiment: PathBuf,
+    /// The navigation experiment of the "different histories" cases (those whose answer names
+    /// it: [`CaseAnswer::navigation_experiment`], checked against its `name`); the same runs
+    /// by name, with other chamber histories.
+    pub histories_experiment: PathBuf,
     /// Which of its runs (by name); empty = all.
     pub navigation_runs: Vec<String>,
     /// Keep each case's datasets (about 0.6 GB per 15 h run) instead of deleting them.
@@ -76,9 +80,6 @@ pub struct SuiteResult {
     pub markdown: String,
 }
 
-/// Name of each case's calibration run among its datasets.
-const CALIBRATION_RUN: &str = "cal";
-
 /// Generate one case's data from its (sealed) answer: calibrate the real IMU, write its
 /// calibration run and its navigation runs; returns the dataset list and the calibrated
 /// parameter set.
@@ -89,7 +90,22 @@ fn generate(
     progress: &mut dyn Progress,
 ) -> Result<(Vec<(String, PathBuf)>, sins_kf::CalibrationResult), GapError> {
     let cal_exp = load_experiment(&cfg.calibration_experiment)?;
-    let nav_exp = load_experiment(&cfg.navigation_experiment)?;
+    // The case's own navigation experiment (the "different histories" cases), else the suite's.
+    let nav_exp = match &answer.navigation_experiment {
+        None => load_experiment(&cfg.navigation_experiment)?,
+        Some(name) => {
+            let e = load_experiment(&cfg.histories_experiment)?;
+            if &e.name != name {
+                return Err(GapError::Invalid(format!(
+                    "{}: the case records the runs of navigation experiment '{name}', {} is '{}'",
+                    answer.case,
+                    cfg.histories_experiment.display(),
+                    e.name
+                )));
+            }
+            e
+        }
+    };
     let effect = answer.spec();
     let mut cal = cal_exp
         .scenarios
@@ -97,6 +113,9 @@ fn generate(
         .cloned()
         .ok_or_else(|| GapError::Invalid("the calibration experiment has no run".into()))?;
     cal.seed = answer.seed;
+    // The calibration run is `cal` here (`HiddenEffect::acts_on` also takes `calibration`):
+    // an effect of every run, or of the calibration run only, is injected into it; one of a
+    // navigation run, or of every navigation run, is not.
     let acts_on = |run: &str| answer.hidden.as_ref().is_none_or(|h| h.acts_on(run));
     if acts_on(CALIBRATION_RUN) {
         cal.effects.extend(effect.clone());

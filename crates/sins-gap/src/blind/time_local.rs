@@ -30,6 +30,10 @@ pub struct TimeLocalGrade {
     pub detectable: Option<f64>,
     /// The hidden size is above it (true when unknown).
     pub above_detectable: bool,
+    /// The onset is graded: false for an effect in the calibration run only (no navigation run
+    /// carries it, so no event can be located; such a case is graded by its verdict alone,
+    /// a confident misattribution or not).
+    pub onset_graded: bool,
 }
 
 fn channel(h: &HiddenEffect, kind: EffectKind) -> String {
@@ -43,6 +47,11 @@ fn channel(h: &HiddenEffect, kind: EffectKind) -> String {
 fn shape(h: &HiddenEffect, kind: EffectKind) -> &'static str {
     match kind {
         EffectKind::GyroBiasRamp | EffectKind::AccelBiasRamp => "ramp",
+        EffectKind::GyroBiasPlateau | EffectKind::AccelBiasPlateau => "plateau",
+        EffectKind::GyroBiasPulse | EffectKind::AccelBiasPulse => "pulse",
+        EffectKind::GyroBiasDecayingOscillation | EffectKind::AccelBiasDecayingOscillation => {
+            "decaying oscillation"
+        }
         EffectKind::GyroBiasTransient | EffectKind::AccelBiasTransient => {
             if h.onset_time_s() == 0.0 {
                 "turn-on transient"
@@ -81,7 +90,10 @@ fn detectable(h: &HiddenEffect, ch: &str, sh: &str, curves: &[DetectableCurve]) 
         .min_by(f64::total_cmp)
 }
 
-/// Grade a case whose hidden effect is time-local (`None` otherwise).
+/// Grade a case whose hidden effect is time-local (`None` otherwise). An effect in one run is
+/// looked for in that run; one common to every navigation run in any of them (the strongest
+/// event on the channel, its onset against the common onset); one in the calibration run only
+/// has no onset to locate (`onset_graded` false).
 pub fn grade_case(a: &CaseAnswer, d: &Diagnosis) -> Option<TimeLocalGrade> {
     let h = a.hidden.as_ref().filter(|h| h.is_time_local())?;
     let kind = EffectKind::from_name(&h.kind)?;
@@ -104,8 +116,16 @@ pub fn grade_case(a: &CaseAnswer, d: &Diagnosis) -> Option<TimeLocalGrade> {
     let onset_within_3_sigma = event
         .as_ref()
         .is_some_and(|e| (e.onset_s - truth).abs() <= 3.0 * e.onset_sigma_s + 1e-9);
-    let detectable = detectable(h, &ch, sh, &d.events.detectable);
+    // The scan has no plateau, pulse or oscillation: those are graded against the step's
+    // level at their onset (a lower bound on their detectable size: a plateau reaches its
+    // level later, a pulse and an oscillation hold it for less time).
+    let scanned = match sh {
+        "plateau" | "pulse" | "decaying oscillation" => "step",
+        s => s,
+    };
+    let detectable = detectable(h, &ch, scanned, &d.events.detectable);
     Some(TimeLocalGrade {
+        onset_graded: !h.calibration_only(),
         shape_right: event.as_ref().is_some_and(|e| e.shape == sh),
         above_detectable: detectable.is_none_or(|l| h.magnitude.abs() > l),
         channel: ch,
@@ -128,9 +148,26 @@ pub fn render(
     found: (usize, usize),
     on_channel: (usize, usize),
     false_alarms: (usize, usize),
+    wide: Option<((usize, usize), (usize, usize))>,
     frac: fn((usize, usize)) -> String,
 ) -> String {
     let mut figures = Table::new(["figure", "result", "target"]);
+    if let Some((wide_found, wide_on_channel)) = wide {
+        figures
+            .row([
+                "widened draw: reported with the onset within 3 sigma, their channel named, \
+                 cases in navigation runs above the detectable level (calibration-only cases \
+                 are graded by their verdict)"
+                    .to_string(),
+                frac(wide_found),
+                "≥ 90 %".to_string(),
+            ])
+            .row([
+                "the same, their channel the event's own".to_string(),
+                frac(wide_on_channel),
+                "-".to_string(),
+            ]);
+    }
     figures
         .row([
             "reported with the onset within 3 sigma, their channel named (as the event's or as one \
@@ -166,11 +203,28 @@ pub fn render(
         let tau = h
             .time_constant_s
             .map_or(String::new(), |t| format!(", τ {t:.0} s"));
+        let tau = match h.duration_s {
+            Some(d) => {
+                let what = match g.shape.as_str() {
+                    "plateau" => "rise",
+                    "pulse" => "duration",
+                    _ => "period",
+                };
+                format!("{tau}, {what} {d:.0} s")
+            }
+            None => tau,
+        };
         let ev = g.event.as_ref();
         t.row([
             a.case.clone(),
             format!("{} {} {}{tau}", g.shape, g.channel, h.kind),
-            h.run.as_deref().unwrap_or("all").to_string(),
+            match (h.scope, h.run.as_deref()) {
+                (Some(super::plan::EventScope::AllNavigationRuns), _) => "every navigation run",
+                (_, Some(super::plan::CALIBRATION_SCOPE)) => "calibration only",
+                (_, Some(r)) => r,
+                (_, None) => "all",
+            }
+            .to_string(),
             format!("{:.0}", h.onset_time_s()),
             format!("{:.3e} {} ({:.1}×)", h.magnitude, h.unit, h.times_typical),
             g.detectable.map_or("-".into(), |v| format!("{v:.2e}")),
@@ -196,8 +250,22 @@ pub fn render(
             ev.map_or("-".into(), |e| {
                 format!("{:.3e} ± {:.1e}", e.size, e.size_sigma)
             }),
-            if g.onset_within_3_sigma { "yes" } else { "no" }.to_string(),
+            if !g.onset_graded {
+                "- (calibration only)"
+            } else if g.onset_within_3_sigma {
+                "yes"
+            } else {
+                "no"
+            }
+            .to_string(),
         ]);
     }
-    format!("\n## Time-local effects (steps, ramps, transients)\n\n{figures}\n{t}")
+    format!(
+        "\n## Time-local effects (steps, ramps, transients{})\n\n{figures}\n{t}",
+        if wide.is_some() {
+            "; plateaus, pulses, decaying oscillations"
+        } else {
+            ""
+        }
+    )
 }

@@ -96,6 +96,21 @@ pub enum EffectKind {
     GyroBiasTransient,
     /// Outside the catalogue, time-local: a decaying accelerometer bias transient.
     AccelBiasTransient,
+    /// Outside the catalogue, time-local: a gyro bias rising linearly from an onset over a rise
+    /// time, then holding its plateau (the magnitude is the plateau level).
+    GyroBiasPlateau,
+    /// Outside the catalogue, time-local: the same on the accelerometers.
+    AccelBiasPlateau,
+    /// Outside the catalogue, time-local: a rectangular gyro bias pulse (the level for a
+    /// duration from the onset, then back to zero).
+    GyroBiasPulse,
+    /// Outside the catalogue, time-local: the same on the accelerometers.
+    AccelBiasPulse,
+    /// Outside the catalogue, time-local: a decaying gyro bias oscillation from an onset,
+    /// `m sin(2π (t - t0)/P) exp(-(t - t0)/τ)`.
+    GyroBiasDecayingOscillation,
+    /// Outside the catalogue, time-local: the same on the accelerometers.
+    AccelBiasDecayingOscillation,
 }
 
 const XYZ: &[&str] = &["x", "y", "z"];
@@ -108,7 +123,7 @@ const S_PER_H: f64 = 3600.0;
 
 impl EffectKind {
     /// Every kind, in a fixed order (the catalogue first, then those outside it).
-    pub const ALL: [EffectKind; 20] = [
+    pub const ALL: [EffectKind; 26] = [
         EffectKind::AccelBiasQuadraticTemp,
         EffectKind::GyroBiasTemp,
         EffectKind::AccelBiasTempRate,
@@ -124,6 +139,24 @@ impl EffectKind {
         EffectKind::GyroBiasOscillation,
         EffectKind::AccelBiasStep,
         EffectKind::AccelCrossCoupling,
+        EffectKind::GyroBiasStep,
+        EffectKind::GyroBiasRamp,
+        EffectKind::AccelBiasRamp,
+        EffectKind::GyroBiasTransient,
+        EffectKind::AccelBiasTransient,
+        EffectKind::GyroBiasPlateau,
+        EffectKind::AccelBiasPlateau,
+        EffectKind::GyroBiasPulse,
+        EffectKind::AccelBiasPulse,
+        EffectKind::GyroBiasDecayingOscillation,
+        EffectKind::AccelBiasDecayingOscillation,
+    ];
+
+    /// The six time-local kinds that existed before the plateaus, pulses and decaying
+    /// oscillations, in [`Self::ALL`] order: the blind suite's original time-local section
+    /// cycles over exactly these (so that its seeds keep drawing the same cases).
+    pub const ORIGINAL_TIME_LOCAL: [EffectKind; 6] = [
+        EffectKind::AccelBiasStep,
         EffectKind::GyroBiasStep,
         EffectKind::GyroBiasRamp,
         EffectKind::AccelBiasRamp,
@@ -160,6 +193,12 @@ impl EffectKind {
             EffectKind::AccelBiasRamp => "accel_bias_ramp",
             EffectKind::GyroBiasTransient => "gyro_bias_transient",
             EffectKind::AccelBiasTransient => "accel_bias_transient",
+            EffectKind::GyroBiasPlateau => "gyro_bias_plateau",
+            EffectKind::AccelBiasPlateau => "accel_bias_plateau",
+            EffectKind::GyroBiasPulse => "gyro_bias_pulse",
+            EffectKind::AccelBiasPulse => "accel_bias_pulse",
+            EffectKind::GyroBiasDecayingOscillation => "gyro_bias_decaying_oscillation",
+            EffectKind::AccelBiasDecayingOscillation => "accel_bias_decaying_oscillation",
         }
     }
 
@@ -211,6 +250,22 @@ impl EffectKind {
             EffectKind::AccelBiasTransient => {
                 "accelerometer bias jump at a given time decaying with a time constant"
             }
+            EffectKind::GyroBiasPlateau => {
+                "gyro bias rising linearly from a given time over a rise time, then holding"
+            }
+            EffectKind::AccelBiasPlateau => {
+                "accelerometer bias rising linearly from a given time over a rise time, then holding"
+            }
+            EffectKind::GyroBiasPulse => "gyro bias pulse: a level for a duration, then back to 0",
+            EffectKind::AccelBiasPulse => {
+                "accelerometer bias pulse: a level for a duration, then back to 0"
+            }
+            EffectKind::GyroBiasDecayingOscillation => {
+                "gyro bias oscillation from a given time, decaying with a time constant"
+            }
+            EffectKind::AccelBiasDecayingOscillation => {
+                "accelerometer bias oscillation from a given time, decaying with a time constant"
+            }
         }
     }
 
@@ -225,7 +280,10 @@ impl EffectKind {
             | EffectKind::GyroBiasOscillation
             | EffectKind::GyroBiasStep
             | EffectKind::GyroBiasRamp
-            | EffectKind::GyroBiasTransient => Sensor::Gyro,
+            | EffectKind::GyroBiasTransient
+            | EffectKind::GyroBiasPlateau
+            | EffectKind::GyroBiasPulse
+            | EffectKind::GyroBiasDecayingOscillation => Sensor::Gyro,
             _ => Sensor::Accel,
         }
     }
@@ -262,8 +320,15 @@ impl EffectKind {
             }
             EffectKind::GyroBiasOscillation
             | EffectKind::GyroBiasStep
-            | EffectKind::GyroBiasTransient => u("deg/h", DEG_PER_H, "rad/s"),
-            EffectKind::AccelBiasStep | EffectKind::AccelBiasTransient => u("ug", UG, "m/s^2"),
+            | EffectKind::GyroBiasTransient
+            | EffectKind::GyroBiasPlateau
+            | EffectKind::GyroBiasPulse
+            | EffectKind::GyroBiasDecayingOscillation => u("deg/h", DEG_PER_H, "rad/s"),
+            EffectKind::AccelBiasStep
+            | EffectKind::AccelBiasTransient
+            | EffectKind::AccelBiasPlateau
+            | EffectKind::AccelBiasPulse
+            | EffectKind::AccelBiasDecayingOscillation => u("ug", UG, "m/s^2"),
             EffectKind::GyroBiasRamp => u("deg/h/h", DEG_PER_H / S_PER_H, "rad/s/s"),
             EffectKind::AccelBiasRamp => u("ug/h", UG / S_PER_H, "m/s^2/s"),
         }
@@ -323,6 +388,13 @@ impl EffectKind {
             // Turn-on transient: 0.01 deg/h decaying over tens of minutes; accelerometer 30 ug.
             EffectKind::GyroBiasTransient => 1e-2,
             EffectKind::AccelBiasTransient => 30.0,
+            // Plateaus, pulses and decaying oscillations: the size of a bias step.
+            EffectKind::GyroBiasPlateau
+            | EffectKind::GyroBiasPulse
+            | EffectKind::GyroBiasDecayingOscillation => 2e-3,
+            EffectKind::AccelBiasPlateau
+            | EffectKind::AccelBiasPulse
+            | EffectKind::AccelBiasDecayingOscillation => 20.0,
         }
     }
 
@@ -342,17 +414,25 @@ impl EffectKind {
         ) && !self.is_time_local()
     }
 
-    /// True for the kinds that act from an onset time on (steps, ramps, transients): outside
-    /// the catalogue, found by the diagnosis's scan over onset time.
+    /// True for the kinds that act from an onset time on (steps, ramps, transients, ramps to a
+    /// plateau, pulses, decaying oscillations): outside the catalogue; the diagnosis's scan over
+    /// onset time looks for steps, ramps and transients ([`Self::ORIGINAL_TIME_LOCAL`]), the
+    /// other shapes are there to test it on shapes outside its own.
     pub fn is_time_local(self) -> bool {
+        Self::ORIGINAL_TIME_LOCAL.contains(&self) || self.is_extra_time_local()
+    }
+
+    /// True for the time-local shapes added after [`Self::ORIGINAL_TIME_LOCAL`]: ramps to a
+    /// plateau, pulses and decaying oscillations (gyro and accelerometer).
+    pub fn is_extra_time_local(self) -> bool {
         matches!(
             self,
-            EffectKind::AccelBiasStep
-                | EffectKind::GyroBiasStep
-                | EffectKind::GyroBiasRamp
-                | EffectKind::AccelBiasRamp
-                | EffectKind::GyroBiasTransient
-                | EffectKind::AccelBiasTransient
+            EffectKind::GyroBiasPlateau
+                | EffectKind::AccelBiasPlateau
+                | EffectKind::GyroBiasPulse
+                | EffectKind::AccelBiasPulse
+                | EffectKind::GyroBiasDecayingOscillation
+                | EffectKind::AccelBiasDecayingOscillation
         )
     }
 

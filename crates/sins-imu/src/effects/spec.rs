@@ -25,6 +25,11 @@ pub const DEFAULT_OSCILLATION_PERIOD_S: f64 = 2700.0;
 pub const DEFAULT_STEP_TIME_S: f64 = 7200.0;
 /// Time constant (s) of the bias transients built by [`EffectSpec::unit`] (30 min).
 pub const DEFAULT_TRANSIENT_TIME_CONSTANT_S: f64 = 1800.0;
+/// Rise time of a ramp to a plateau, duration of a pulse and period of a decaying oscillation
+/// built by [`EffectSpec::unit`] (1 h).
+pub const DEFAULT_PROFILE_DURATION_S: f64 = 3600.0;
+/// Decay time constant of a decaying oscillation built by [`EffectSpec::unit`] (2 h).
+pub const DEFAULT_PROFILE_TIME_CONSTANT_S: f64 = 7200.0;
 
 /// A data description of one extra effect (what experiment files name), buildable into the
 /// [`ExtraEffect`] the forward model applies. Values in SI. The *magnitude components* (see
@@ -139,6 +144,24 @@ pub enum EffectSpec {
         /// Time constant of a transient (s, > 0; ignored by steps and ramps).
         time_constant_s: f64,
     },
+    /// See [`BiasEvent`] (outside the catalogue, time-local) with the shapes outside the
+    /// diagnosis scan's own: the kinds [`EffectKind::GyroBiasPlateau`],
+    /// [`EffectKind::AccelBiasPlateau`], [`EffectKind::GyroBiasPulse`],
+    /// [`EffectKind::AccelBiasPulse`], [`EffectKind::GyroBiasDecayingOscillation`] and
+    /// [`EffectKind::AccelBiasDecayingOscillation`].
+    BiasProfile {
+        /// Which of the six kinds.
+        kind: EffectKind,
+        /// Magnitude per axis (SI: rad/s or m/s²; a plateau's level, a pulse's level, an
+        /// oscillation's initial amplitude).
+        magnitude_si: Vec3,
+        /// Onset (s).
+        onset_s: f64,
+        /// Rise time of a plateau, duration of a pulse, period of an oscillation (s, > 0).
+        duration_s: f64,
+        /// Decay time constant of an oscillation (s, > 0; ignored by plateaus and pulses).
+        time_constant_s: f64,
+    },
 }
 
 impl EffectSpec {
@@ -160,7 +183,7 @@ impl EffectSpec {
             EffectSpec::GyroBiasOscillation { .. } => EffectKind::GyroBiasOscillation,
             EffectSpec::AccelBiasStep { .. } => EffectKind::AccelBiasStep,
             EffectSpec::AccelCrossCoupling { .. } => EffectKind::AccelCrossCoupling,
-            EffectSpec::BiasEvent { kind, .. } => *kind,
+            EffectSpec::BiasEvent { kind, .. } | EffectSpec::BiasProfile { kind, .. } => *kind,
         }
     }
 
@@ -244,6 +267,18 @@ impl EffectSpec {
                 onset_s: DEFAULT_STEP_TIME_S,
                 time_constant_s: DEFAULT_TRANSIENT_TIME_CONSTANT_S,
             },
+            EffectKind::GyroBiasPlateau
+            | EffectKind::AccelBiasPlateau
+            | EffectKind::GyroBiasPulse
+            | EffectKind::AccelBiasPulse
+            | EffectKind::GyroBiasDecayingOscillation
+            | EffectKind::AccelBiasDecayingOscillation => EffectSpec::BiasProfile {
+                kind,
+                magnitude_si: z,
+                onset_s: DEFAULT_STEP_TIME_S,
+                duration_s: DEFAULT_PROFILE_DURATION_S,
+                time_constant_s: DEFAULT_PROFILE_TIME_CONSTANT_S,
+            },
         }
     }
 
@@ -318,6 +353,18 @@ impl EffectSpec {
                 time_constant_s,
                 ..
             } => onset_s.is_finite() && time_constant_s.is_finite() && time_constant_s > 0.0,
+            EffectSpec::BiasProfile {
+                onset_s,
+                duration_s,
+                time_constant_s,
+                ..
+            } => {
+                onset_s.is_finite()
+                    && duration_s.is_finite()
+                    && duration_s > 0.0
+                    && time_constant_s.is_finite()
+                    && time_constant_s > 0.0
+            }
             _ => true,
         }
     }
@@ -407,6 +454,18 @@ impl EffectSpec {
                 onset_s,
                 shape: event_shape(kind, time_constant_s),
             }),
+            EffectSpec::BiasProfile {
+                kind,
+                magnitude_si,
+                onset_s,
+                duration_s,
+                time_constant_s,
+            } => Box::new(BiasEvent {
+                sensor: kind.sensor(),
+                magnitude: magnitude_si,
+                onset_s,
+                shape: profile_shape(kind, duration_s, time_constant_s),
+            }),
         }
     }
 
@@ -457,6 +516,9 @@ impl EffectSpec {
             | EffectSpec::AccelCrossCoupling { coeff_per_mps2: v }
             | EffectSpec::BiasEvent {
                 magnitude_si: v, ..
+            }
+            | EffectSpec::BiasProfile {
+                magnitude_si: v, ..
             } => v,
         };
         for (i, m) in v.iter_mut().enumerate() {
@@ -473,5 +535,24 @@ pub fn event_shape(kind: EffectKind, time_constant_s: f64) -> EventShape {
             EventShape::Transient { time_constant_s }
         }
         _ => EventShape::Step,
+    }
+}
+
+/// The time profile of any time-local kind: the shapes of [`event_shape`], and a ramp to a
+/// plateau (rise time `duration_s`), a pulse (duration `duration_s`) or a decaying oscillation
+/// (period `duration_s`, decay `time_constant_s`).
+pub fn profile_shape(kind: EffectKind, duration_s: f64, time_constant_s: f64) -> EventShape {
+    match kind {
+        EffectKind::GyroBiasPlateau | EffectKind::AccelBiasPlateau => {
+            EventShape::Plateau { rise_s: duration_s }
+        }
+        EffectKind::GyroBiasPulse | EffectKind::AccelBiasPulse => EventShape::Pulse { duration_s },
+        EffectKind::GyroBiasDecayingOscillation | EffectKind::AccelBiasDecayingOscillation => {
+            EventShape::DecayingOscillation {
+                period_s: duration_s,
+                time_constant_s,
+            }
+        }
+        _ => event_shape(kind, time_constant_s),
     }
 }

@@ -59,6 +59,15 @@ fn typical(k: EffectKind, i: usize) -> EffectSpec {
             onset_s: 0.1,
             time_constant_s: 1.0,
         },
+        EffectSpec::BiasProfile {
+            kind, magnitude_si, ..
+        } => EffectSpec::BiasProfile {
+            kind,
+            magnitude_si,
+            onset_s: 0.1,
+            duration_s: 0.7,
+            time_constant_s: 1.0,
+        },
         s => s,
     }
 }

@@ -1,8 +1,11 @@
 //! Effects local in time, outside the diagnosis catalogue: a bias that steps, starts to drift
 //! (a ramp) or jumps and decays (an exponential transient) at an onset time. Real IMUs show all
 //! three: bias jumps after a shock or a mode change, a slow drift after a thermal event, the
-//! turn-on transient of a laser-gyro bias. Each is integrated exactly over the sample that
-//! contains the onset, so the injected increment is the integral of the bias profile.
+//! turn-on transient of a laser-gyro bias. Three more shapes test the diagnosis outside the
+//! shapes its scan looks for: a ramp to a plateau (a drift that settles), a rectangular pulse
+//! (a mode held for a while) and a decaying oscillation (a thermal control loop settling). Each
+//! is integrated exactly over the sample that contains the onset (and its end, or the end of
+//! its rise), so the injected increment is the integral of the bias profile.
 //!
 //! The diagnosis looks for these with a scan over onset time (`sins_diag::events`), not as
 //! catalogue candidates: a correct diagnosis reports them as time-local events outside the
@@ -24,6 +27,24 @@ pub enum EventShape {
         /// Time constant τ (s, > 0).
         time_constant_s: f64,
     },
+    /// `b(t) = (t - t_0)/r` for `t_0 ≤ t < t_0 + r`, then `1` (a ramp to a plateau; the
+    /// magnitude is the plateau level).
+    Plateau {
+        /// Rise time r (s, > 0).
+        rise_s: f64,
+    },
+    /// `b(t) = 1` for `t_0 ≤ t < t_0 + D`, then `0` (a rectangular pulse).
+    Pulse {
+        /// Duration D (s, > 0).
+        duration_s: f64,
+    },
+    /// `b(t) = sin(2π (t - t_0)/P) exp(-(t - t_0)/τ)` (a decaying oscillation).
+    DecayingOscillation {
+        /// Period P (s, > 0).
+        period_s: f64,
+        /// Decay time constant τ (s, > 0).
+        time_constant_s: f64,
+    },
 }
 
 impl EventShape {
@@ -38,15 +59,61 @@ impl EventShape {
             EventShape::Transient { time_constant_s } => {
                 time_constant_s * -(-u_s / time_constant_s).exp_m1()
             }
+            EventShape::Plateau { rise_s } => {
+                if u_s < rise_s {
+                    0.5 * u_s * u_s / rise_s
+                } else {
+                    0.5 * rise_s + (u_s - rise_s)
+                }
+            }
+            EventShape::Pulse { duration_s } => u_s.min(duration_s),
+            EventShape::DecayingOscillation {
+                period_s,
+                time_constant_s,
+            } => {
+                // ∫_0^u sin(ω s) e^{-a s} ds = [ω - e^{-a u} (a sin ω u + ω cos ω u)] / (a² + ω²).
+                let w = std::f64::consts::TAU / period_s;
+                let a = 1.0 / time_constant_s;
+                let (s, c) = (w * u_s).sin_cos();
+                (w - (-a * u_s).exp() * (a * s + w * c)) / (a * a + w * w)
+            }
         }
     }
 
-    /// Short name for reports: `step`, `ramp` or `transient`.
+    /// The profile `b(t_0 + u)` itself, per unit magnitude (0 before the onset).
+    pub fn value(self, u_s: f64) -> f64 {
+        if u_s < 0.0 {
+            return 0.0;
+        }
+        match self {
+            EventShape::Step => 1.0,
+            EventShape::Ramp => u_s,
+            EventShape::Transient { time_constant_s } => (-u_s / time_constant_s).exp(),
+            EventShape::Plateau { rise_s } => (u_s / rise_s).min(1.0),
+            EventShape::Pulse { duration_s } => {
+                if u_s < duration_s {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            EventShape::DecayingOscillation {
+                period_s,
+                time_constant_s,
+            } => (std::f64::consts::TAU * u_s / period_s).sin() * (-u_s / time_constant_s).exp(),
+        }
+    }
+
+    /// Short name for reports: `step`, `ramp`, `transient`, `plateau`, `pulse` or
+    /// `decaying oscillation`.
     pub fn name(self) -> &'static str {
         match self {
             EventShape::Step => "step",
             EventShape::Ramp => "ramp",
             EventShape::Transient { .. } => "transient",
+            EventShape::Plateau { .. } => "plateau",
+            EventShape::Pulse { .. } => "pulse",
+            EventShape::DecayingOscillation { .. } => "decaying oscillation",
         }
     }
 }
@@ -73,6 +140,16 @@ impl ExtraEffect for BiasEvent {
             (Sensor::Accel, EventShape::Step) => "accel_bias_step",
             (Sensor::Accel, EventShape::Ramp) => "accel_bias_ramp",
             (Sensor::Accel, EventShape::Transient { .. }) => "accel_bias_transient",
+            (Sensor::Gyro, EventShape::Plateau { .. }) => "gyro_bias_plateau",
+            (Sensor::Accel, EventShape::Plateau { .. }) => "accel_bias_plateau",
+            (Sensor::Gyro, EventShape::Pulse { .. }) => "gyro_bias_pulse",
+            (Sensor::Accel, EventShape::Pulse { .. }) => "accel_bias_pulse",
+            (Sensor::Gyro, EventShape::DecayingOscillation { .. }) => {
+                "gyro_bias_decaying_oscillation"
+            }
+            (Sensor::Accel, EventShape::DecayingOscillation { .. }) => {
+                "accel_bias_decaying_oscillation"
+            }
         }
     }
 
@@ -141,6 +218,137 @@ mod tests {
             assert!((b.y - 2.0 * want).abs() < 1e-9 * want);
             assert_eq!(a, Vec3::zeros());
         }
+    }
+
+    /// The new shapes with hour-scale parameters (as the blind suite draws them).
+    fn new_shapes() -> [EventShape; 3] {
+        [
+            EventShape::Plateau { rise_s: 5400.0 },
+            EventShape::Pulse { duration_s: 2700.0 },
+            EventShape::DecayingOscillation {
+                period_s: 7200.0,
+                time_constant_s: 10_800.0,
+            },
+        ]
+    }
+
+    /// Composite Simpson quadrature of the profile over `[a, b]` (`n` even intervals); the end
+    /// values are the one-sided limits inside the interval (taken 1e-9 s inside), so that a
+    /// piece ending at a pulse's end integrates the pulse's level.
+    fn simpson(shape: EventShape, a: f64, b: f64, n: usize) -> f64 {
+        let h = (b - a) / n as f64;
+        let mut sum = shape.value(a + 1e-9) + shape.value(b - 1e-9);
+        for i in 1..n {
+            sum += if i % 2 == 1 { 4.0 } else { 2.0 } * shape.value(a + i as f64 * h);
+        }
+        sum * h / 3.0
+    }
+
+    /// [`simpson`] on each smooth piece of `[a, b]`: split at the end of a plateau's rise or of
+    /// a pulse.
+    fn quad(shape: EventShape, a: f64, b: f64, n: usize) -> f64 {
+        let kink = match shape {
+            EventShape::Plateau { rise_s } => Some(rise_s),
+            EventShape::Pulse { duration_s } => Some(duration_s),
+            _ => None,
+        };
+        match kink {
+            Some(k) if a < k && k < b => simpson(shape, a, k, n) + simpson(shape, k, b, n),
+            _ => simpson(shape, a, b, n),
+        }
+    }
+
+    #[test]
+    fn analytic_integrals_match_a_fine_quadrature_of_the_profile() {
+        // Simpson with 20 000 intervals per smooth piece (the plateau's and the pulse's kinks
+        // are piece ends): error below 1e-9 of the integral's scale (here 1e-10 relative to
+        // max(|integral|, 1 s) is asked), over times before, at and after the kinks.
+        for shape in new_shapes() {
+            for u in [0.37, 1000.0, 2700.0, 3333.3, 5400.0, 9000.0, 54_000.0] {
+                let want = quad(shape, 0.0, u, 20_000);
+                let got = shape.integral(u);
+                assert!(
+                    (got - want).abs() <= 1e-10 * want.abs().max(1.0),
+                    "{shape:?} at {u}: {got} vs {want}"
+                );
+            }
+            assert_eq!(shape.integral(0.0), 0.0);
+            assert_eq!(shape.integral(-5.0), 0.0);
+            assert_eq!(shape.value(-1.0), 0.0);
+        }
+        // Closed forms at a few points: half the rise, then one second per second.
+        let p = EventShape::Plateau { rise_s: 5400.0 };
+        assert_eq!(p.integral(5400.0), 2700.0);
+        assert_eq!(p.integral(6400.0), 3700.0);
+        let q = EventShape::Pulse { duration_s: 2700.0 };
+        assert_eq!(q.integral(10_000.0), 2700.0);
+        // A decaying oscillation's integral tends to ω/(a² + ω²).
+        let (pp, tau) = (7200.0, 10_800.0);
+        let w = std::f64::consts::TAU / pp;
+        let o = EventShape::DecayingOscillation {
+            period_s: pp,
+            time_constant_s: tau,
+        };
+        let limit = w / (1.0 / (tau * tau) + w * w);
+        assert!((o.integral(1e7) - limit).abs() < 1e-9 * limit);
+    }
+
+    #[test]
+    fn new_shapes_increments_add_up_to_the_integral_and_hold_exactly_over_kinks() {
+        // 15 h at 10 Hz (the onset and the kinks fall inside samples), gyro and accelerometer.
+        let (h, n) = (0.1, 540_000);
+        let t0 = 3600.0 * 2.0 + 0.0437;
+        for shape in new_shapes() {
+            let want = shape.integral(n as f64 * h - t0);
+            for sensor in [Sensor::Gyro, Sensor::Accel] {
+                let mut e = BiasEvent {
+                    sensor,
+                    magnitude: Vec3::new(3.0, 0.0, -1.0),
+                    onset_s: t0,
+                    shape,
+                };
+                let (g, a) = total(&mut e, h, n);
+                let (on, off) = match sensor {
+                    Sensor::Gyro => (g, a),
+                    Sensor::Accel => (a, g),
+                };
+                assert_eq!(off, Vec3::zeros());
+                assert_eq!(on.y, 0.0);
+                assert!(
+                    (on.x - 3.0 * want).abs() <= 1e-9 * want.abs().max(1.0),
+                    "{shape:?} {sensor:?}: {} vs {}",
+                    on.x,
+                    3.0 * want
+                );
+                assert!((on.z + want).abs() <= 1e-9 * want.abs().max(1.0));
+            }
+            // The sample that holds the onset carries exactly the part after the onset, and each
+            // sample the integral of the profile over it.
+            let mut e = BiasEvent {
+                sensor: Sensor::Gyro,
+                magnitude: Vec3::new(1.0, 0.0, 0.0),
+                onset_s: t0,
+                shape,
+            };
+            let mut ctx = EffectContext::at_rest(0.0, h, [20.0; 3]);
+            for k in [72_000usize, 72_001, 72_002, 99_000, 126_000] {
+                ctx.t_s = (k + 1) as f64 * h;
+                let (d, _) = e.perturbation(&ctx);
+                let (u0, u1) = (ctx.t_s - h - t0, ctx.t_s - t0);
+                let quad = quad(shape, u0.max(0.0), u1.max(0.0), 2000);
+                assert!((d.x - quad).abs() <= 1e-9 * h, "{shape:?} sample {k}");
+            }
+        }
+        assert_eq!(
+            BiasEvent {
+                sensor: Sensor::Accel,
+                magnitude: Vec3::zeros(),
+                onset_s: 0.0,
+                shape: EventShape::Pulse { duration_s: 1.0 },
+            }
+            .name(),
+            "accel_bias_pulse"
+        );
     }
 
     #[test]
