@@ -7,7 +7,7 @@
 use crate::calib::uncertainty;
 use crate::confound::confounds;
 use crate::error::DiagError;
-use crate::events::EventScan;
+use crate::events::{EventScan, ScanRun};
 use crate::gaps::{Catalogue, catalogue, gaps};
 use crate::input::{DiagnoseConfig, DiagnosisInput};
 use crate::localise::{GapSeries, localise};
@@ -200,7 +200,18 @@ impl Challenge<'_> {
         let Some(stacked) = stacked else {
             return Ok((verdict, Vec::new(), Vec::new()));
         };
-        stacked.take(&scan_runs(None, ranked, self.scope), &cfg.events)?;
+        // The twin-alone gap in the leader's linearisation when it was refined (its linear
+        // columns would leave its nonlinearity to the rivals).
+        let leader = named(&verdict).into_iter().next();
+        let refined = self
+            .scope
+            .refinements
+            .iter()
+            .find(|r| leader.as_deref() == Some(r.layout.kind.name()));
+        match refined {
+            Some(r) => stacked.take(&refined_runs(r, self.scope.sens), &cfg.events)?,
+            None => stacked.take(&scan_runs(None, ranked, self.scope), &cfg.events)?,
+        }
         let stacked = &*stacked;
         let confound = confounds(
             stacked,
@@ -221,7 +232,7 @@ impl Challenge<'_> {
             return Ok((verdict, Vec::new(), confound));
         }
         let sc = JudgeScope {
-            data: self.data,
+            data: refined.map_or(self.data, |r| &r.data),
             layouts: self.layouts,
             walks: self.scope.walks,
             floor_var: self.floor_var,
@@ -230,6 +241,29 @@ impl Challenge<'_> {
         let (verdict, rivals) = challenge(verdict, stacked, ranked, &sc, cfg, notes)?;
         Ok((verdict, rivals, confound))
     }
+}
+
+/// The runs of refinement `r` with the gap of the twin alone in its linearisation: the
+/// corrected gap plus the refined columns at the linearisation point.
+fn refined_runs<'a>(r: &'a Refinement, sens: &'a [RunSensitivity]) -> Vec<ScanRun<'a>> {
+    r.data
+        .iter()
+        .zip(sens)
+        .map(|(fd, s)| {
+            let mut residual = fd.gap.clone();
+            for (&c, &t) in r.rf.retained.iter().zip(&r.theta_lin) {
+                residual.axpy(t, &fd.columns.column(r.layout.first + c), 1.0);
+            }
+            ScanRun {
+                sens: s,
+                fit: fd,
+                residual,
+                nuisance: nalgebra::DMatrix::zeros(fd.gap.len(), 0),
+                extra_cov: None,
+                candidates: Vec::new(),
+            }
+        })
+        .collect()
 }
 
 /// The note on the catalogue ranked again without the time-local events outside it.
