@@ -15,11 +15,11 @@
 //! temperature excursion reversed (to first order the temperature terms change sign, the time
 //! course does not). The run that cuts the loss most is the suggested experiment.
 
-use crate::events::Nuisance;
 use crate::problem::RunFitData;
 use crate::rank::Layout;
 use crate::report::Confound;
 use crate::stacked::Stacked;
+use crate::whiten::Nuisance;
 use nalgebra::DVector;
 use sins_imu::EffectKind;
 
@@ -138,10 +138,19 @@ pub(crate) fn confounds(
         .map(|r| run_basis(st, r, every_s, common))
         .collect();
     // columns[layout][component][run]
-    let columns: Vec<Vec<Vec<DVector<f64>>>> = layouts
+    // A candidate without information (no temperature record) has nothing to lose.
+    let (layouts, columns): (Vec<&Layout>, Vec<Vec<Vec<DVector<f64>>>>) = layouts
         .iter()
-        .map(|l| (0..l.n).map(|c| component(st, data, l.first + c)).collect())
-        .collect();
+        .map(|l| {
+            let cols: Vec<Vec<DVector<f64>>> =
+                (0..l.n).map(|c| component(st, data, l.first + c)).collect();
+            (*l, cols)
+        })
+        .filter(|(_, cols)| cols.iter().flatten().any(|v| v.norm_squared() > 0.0))
+        .unzip();
+    if layouts.is_empty() {
+        return Vec::new();
+    }
     let here = lost(&basis, &columns);
     let like = (0..st.runs.len())
         .max_by_key(|&r| st.runs[r].residual.len())

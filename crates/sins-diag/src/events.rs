@@ -42,8 +42,7 @@ use crate::model::{Mat7, R_E, R_N, Vec7};
 use crate::problem::RunFitData;
 use crate::sensitivity::RunSensitivity;
 use crate::stats::{chi2_isf, chi2_sf};
-use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
-use faer::{Mat, Par, Side};
+use crate::whiten::{Nuisance, RunWhitener};
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 use sins_imu::EffectKind;
@@ -231,80 +230,6 @@ pub struct ScanRun<'a> {
     /// Deterministic catalogue candidates: name and their fitted contribution to the run's gap
     /// (fit rows; one magnitude fitted to every run, as the catalogue's fit does).
     pub candidates: Vec<(String, DVector<f64>)>,
-}
-
-/// Whitening by the Cholesky factor of one run's covariance.
-pub(crate) struct RunWhitener {
-    l: Mat<f64>,
-}
-
-impl RunWhitener {
-    pub(crate) fn new(cov: &DMatrix<f64>) -> Result<Self, DiagError> {
-        let n = cov.nrows();
-        let m = Mat::<f64>::from_fn(n, n, |i, j| cov[(i, j)]);
-        let llt = m.llt(Side::Lower).map_err(|e| {
-            DiagError::Numerical(format!(
-                "event scan: covariance not positive definite ({e:?})"
-            ))
-        })?;
-        Ok(Self {
-            l: llt.L().to_owned(),
-        })
-    }
-
-    pub(crate) fn whiten_vec(&self, x: &DVector<f64>) -> DVector<f64> {
-        self.whiten(&DMatrix::from_column_slice(x.len(), 1, x.as_slice()))
-            .column(0)
-            .into_owned()
-    }
-
-    pub(crate) fn whiten(&self, x: &DMatrix<f64>) -> DMatrix<f64> {
-        let mut m = Mat::<f64>::from_fn(x.nrows(), x.ncols(), |i, j| x[(i, j)]);
-        solve_lower_triangular_in_place(self.l.as_ref(), m.as_mut(), Par::Seq);
-        DMatrix::from_fn(x.nrows(), x.ncols(), |i, j| m[(i, j)])
-    }
-}
-
-/// An orthonormal basis of nuisance directions (whitened) and the residual projected off it.
-pub(crate) struct Nuisance {
-    pub(crate) q: Vec<DVector<f64>>,
-    pub(crate) r: DVector<f64>,
-}
-
-impl Nuisance {
-    pub(crate) fn new(r: DVector<f64>) -> Self {
-        Self { q: Vec::new(), r }
-    }
-
-    /// Add a direction (Gram-Schmidt twice); the residual loses its component.
-    pub(crate) fn add(&mut self, v: &DVector<f64>) {
-        let mut u = v.clone();
-        for _ in 0..2 {
-            for q in &self.q {
-                let c = q.dot(&u);
-                u.axpy(-c, q, 1.0);
-            }
-        }
-        let n = u.norm();
-        if n > 1e-10 * v.norm().max(f64::MIN_POSITIVE) {
-            u /= n;
-            let c = u.dot(&self.r);
-            self.r.axpy(-c, &u, 1.0);
-            self.q.push(u);
-        }
-    }
-
-    /// `(ŝᵀr̂⊥, |ŝ⊥|²)`.
-    pub(crate) fn stat(&self, s: &[f64]) -> (f64, f64) {
-        let sv = nalgebra::DVectorView::from_slice(s, s.len());
-        let a = sv.dot(&self.r);
-        let mut b = sv.dot(&sv);
-        for q in &self.q {
-            let c = sv.dot(q);
-            b -= c * c;
-        }
-        (a, b.max(0.0))
-    }
 }
 
 /// The step signals of one bias axis at every onset of the grid (fit rows × onsets).
@@ -646,14 +571,6 @@ pub struct EventSignal {
     pub contribution: DVector<f64>,
 }
 
-impl RunWhitener {
-    /// `L x`: back from the whitened space.
-    pub(crate) fn colour(&self, x: &DVector<f64>) -> DVector<f64> {
-        let n = x.len();
-        DVector::from_fn(n, |i, _| (0..=i).map(|j| self.l[(i, j)] * x[j]).sum())
-    }
-}
-
 /// `T` of an event's signal (`contribution`, any scale) on run `r` under the run's covariance
 /// plus `extra` (a fitted noise term), the winner's columns and the other events projected out
 /// (`others`): is the event still significant when that noise term is in the twin?
@@ -916,21 +833,4 @@ fn detectable_curves(
             c
         })
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn nuisance_projection_removes_the_direction_from_both_sides() {
-        let r = DVector::from_vec(vec![1.0, 2.0, 3.0, 4.0]);
-        let mut n = Nuisance::new(r);
-        n.add(&DVector::from_vec(vec![1.0, 0.0, 0.0, 0.0]));
-        // A signal along the nuisance has no component left.
-        let (a, b) = n.stat(&[2.0, 0.0, 0.0, 0.0]);
-        assert!(a.abs() < 1e-15 && b.abs() < 1e-15);
-        let (a, b) = n.stat(&[1.0, 1.0, 0.0, 0.0]);
-        assert!((a - 2.0).abs() < 1e-15 && (b - 1.0).abs() < 1e-15);
-    }
 }

@@ -104,6 +104,7 @@ mod timelocal;
 pub mod confound;
 pub mod rival;
 mod stacked;
+mod whiten;
 // 6. Verdict, localisation, validation, and the diagnosis that runs the stages.
 mod constancy;
 mod diagnose;

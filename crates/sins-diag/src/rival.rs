@@ -25,7 +25,7 @@
 //! when it still passes on the gap less their joint fit.
 
 use crate::error::DiagError;
-use crate::events::{AXES, EventScanConfig, EventSignal, Nuisance, Prepared, Shape};
+use crate::events::{AXES, EventScanConfig, EventSignal, Prepared, Shape};
 use crate::input::DiagnoseConfig;
 use crate::problem::RunFitData;
 use crate::rank::{Evaluated, Layout, NullDist, evaluate};
@@ -33,6 +33,7 @@ use crate::report::{TimeCourseAlternative, Verdict};
 use crate::stacked::Stacked;
 use crate::stats::chi2_isf;
 use crate::timelocal::without_events;
+use crate::whiten::Nuisance;
 use nalgebra::{DMatrix, DVector};
 use sins_imu::EffectKind;
 
