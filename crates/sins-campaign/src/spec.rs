@@ -79,9 +79,12 @@ pub enum Kind {
     Reports {
         /// The configurations.
         configs: Vec<PathBuf>,
-        /// Run each configuration this many times, with sensor-noise seeds 1..=N (the
+        /// Run each configuration this many times, with sensor-noise seeds K..K+N-1 (the
         /// release gate's `--baseline`); `None`: once, with the experiment files' seeds.
         noise_seeds: Option<u64>,
+        /// K, the first sensor-noise seed (`first_noise_seed`, default 1): a second campaign
+        /// of the same release on seeds disjoint from the first (a gate's false-failure check).
+        first_noise_seed: u64,
     },
 }
 
@@ -152,6 +155,7 @@ struct UqFile {
 struct ReportsFile {
     configs: Vec<String>,
     noise_seeds: Option<u64>,
+    first_noise_seed: Option<u64>,
 }
 
 /// Reads a campaign file. Relative paths inside it are taken from the file's directory; paths
@@ -305,9 +309,28 @@ pub fn parse_campaign(
                     "[reports] noise_seeds = 0: give the number of sensor-noise seeds (1 or more), or leave the key out".into(),
                 ));
             }
+            let first_noise_seed = match (r.first_noise_seed, r.noise_seeds) {
+                (Some(0), _) => {
+                    return Err(bad(
+                        "[reports] first_noise_seed = 0: sensor-noise seeds start at 1".into(),
+                    ));
+                }
+                (Some(k), None) => {
+                    return Err(bad(format!(
+                        "[reports] first_noise_seed = {k} without noise_seeds: give noise_seeds = N as well (the seeds are first_noise_seed .. first_noise_seed + N - 1)"
+                    )));
+                }
+                (Some(k), Some(n)) if k.checked_add(n).is_none() => {
+                    return Err(bad(format!(
+                        "[reports] first_noise_seed = {k} with noise_seeds = {n} runs past the largest seed"
+                    )));
+                }
+                (k, _) => k.unwrap_or(1),
+            };
             Kind::Reports {
                 configs: r.configs.iter().map(|c| dir.join(c)).collect(),
                 noise_seeds: r.noise_seeds,
+                first_noise_seed,
             }
         }
         other => {
@@ -382,9 +405,36 @@ mod tests {
                 "schema = 1\nname = \"s\"\nkind = \"reports\"\nseed = 3\n[reports]\nconfigs = [\"a.toml\"]\n",
                 "seed:",
             ),
+            (
+                "schema = 1\nname = \"s\"\nkind = \"reports\"\n[reports]\nconfigs = [\"a.toml\"]\nfirst_noise_seed = 9\n",
+                "without noise_seeds",
+            ),
+            (
+                "schema = 1\nname = \"s\"\nkind = \"reports\"\n[reports]\nconfigs = [\"a.toml\"]\nnoise_seeds = 8\nfirst_noise_seed = 0\n",
+                "first_noise_seed = 0",
+            ),
         ] {
             let e = parse(text).unwrap_err();
             assert!(e.contains(needle) && e.starts_with("dir/c.toml"), "{e}");
         }
+    }
+
+    #[test]
+    fn noise_seeds_start_at_one_unless_first_noise_seed_says_otherwise() {
+        let seeds = |extra: &str| match parse(&format!(
+            "schema = 1\nname = \"s\"\nkind = \"reports\"\n[reports]\nconfigs = [\"a.toml\"]\nnoise_seeds = 8\n{extra}"
+        ))
+        .unwrap()
+        .kind
+        {
+            Kind::Reports {
+                noise_seeds,
+                first_noise_seed,
+                ..
+            } => (noise_seeds, first_noise_seed),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(seeds(""), (Some(8), 1));
+        assert_eq!(seeds("first_noise_seed = 9\n"), (Some(8), 9));
     }
 }

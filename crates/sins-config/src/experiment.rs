@@ -87,11 +87,20 @@ struct ImuFile {
 pub(crate) struct NoiseFile {
     gyro_arw_deg_per_sqrt_h: f64,
     gyro_bias_instability_deg_per_h: f64,
+    /// Left out: a random constant (an infinite correlation time).
+    #[serde(default = "random_constant")]
     gyro_bias_correlation_s: f64,
     gyro_quantum_arcsec: f64,
     accel_vrw_ug_per_sqrt_hz: f64,
     accel_bias_instability_ug: f64,
+    /// Left out: a random constant (an infinite correlation time).
+    #[serde(default = "random_constant")]
     accel_bias_correlation_s: f64,
+}
+
+/// The correlation time of a bias whose key is left out: a random constant.
+fn random_constant() -> f64 {
+    f64::INFINITY
 }
 
 #[derive(Deserialize)]

@@ -17,8 +17,9 @@
 //!
 //! [`load_noise`] reads either such a file or a whole experiment file (the noise of its first
 //! run); a parameter set given instead is named as such ([`ConfigError::WrongKind`]). Unknown
-//! keys are errors, as everywhere. Every figure written is one the reader takes back: a walk
-//! bound that is not finite is left out with a comment, never written as `inf`. Writing then
+//! keys are errors, as everywhere. Every figure written is one the reader takes back, and none
+//! is infinite: a walk bound or a 1-sigma the data did not bound, and the correlation time of a
+//! random-constant bias, are left out with a comment, never written as `inf`. Writing then
 //! reading reproduces the SI model to a few units in the last place (each figure is written as
 //! the shortest decimal of its paper-unit value; a bias instability passes through the
 //! Allan-peak ratio 0.6174).
@@ -102,16 +103,18 @@ struct WalkFile {
     accel_ug_per_sqrt_h: Option<f64>,
 }
 
+/// `[imu.noise_sigma]`: 1-sigma of each figure, paper units; a key left out is a figure the
+/// data did not bound (an infinite 1-sigma, e.g. the correlation time of a random constant).
 #[derive(Default, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 struct SigmaFile {
-    gyro_arw_deg_per_sqrt_h: f64,
-    gyro_bias_instability_deg_per_h: f64,
-    gyro_bias_correlation_s: f64,
-    gyro_quantum_arcsec: f64,
-    accel_vrw_ug_per_sqrt_hz: f64,
-    accel_bias_instability_ug: f64,
-    accel_bias_correlation_s: f64,
+    gyro_arw_deg_per_sqrt_h: Option<f64>,
+    gyro_bias_instability_deg_per_h: Option<f64>,
+    gyro_bias_correlation_s: Option<f64>,
+    gyro_quantum_arcsec: Option<f64>,
+    accel_vrw_ug_per_sqrt_hz: Option<f64>,
+    accel_bias_instability_ug: Option<f64>,
+    accel_bias_correlation_s: Option<f64>,
 }
 
 /// Read a noise file or, when its `kind` is not `"noise"`, an experiment file (whose first
@@ -236,14 +239,18 @@ fn walk_bounds(ctx: &Ctx<'_>, w: &WalkFile) -> Result<[f64; 2], ConfigError> {
 
 fn sigma_model(ctx: &Ctx<'_>, s: &SigmaFile) -> Result<NoiseModel, ConfigError> {
     let k = |name: &str| format!("imu.noise_sigma.{name}");
-    let nn = |name: &str, v: f64| -> Result<f64, ConfigError> {
-        if v.is_nan() || v < 0.0 {
-            return Err(ctx.invalid(
+    let nn = |name: &str, v: Option<f64>| -> Result<f64, ConfigError> {
+        match v {
+            None => Ok(f64::INFINITY),
+            Some(v) if v.is_nan() || v < 0.0 => Err(ctx.invalid(
                 &k(name),
-                format!("a 1-sigma must be >= 0 (or inf), got {v}"),
-            ));
+                format!(
+                    "a 1-sigma must be >= 0, got {v} (leave the key out where the data did not \
+                     bound the figure)"
+                ),
+            )),
+            Some(v) => Ok(v),
         }
-        Ok(v)
     };
     Ok(NoiseModel {
         gyro_arw_rad_per_sqrt_s: nn("gyro_arw_deg_per_sqrt_h", s.gyro_arw_deg_per_sqrt_h)?
@@ -306,7 +313,8 @@ fn paper_values(m: &NoiseModel) -> [(&'static str, f64, &'static str); 7] {
 }
 
 /// A TOML number: the shortest decimal that reads back to `v` (`inf` for infinity, `nan` for
-/// NaN: valid TOML, which the reader then refuses naming the key).
+/// NaN: valid TOML, which the reader then refuses naming the key; the writer leaves out the
+/// infinite figures it may meet, a random constant's correlation time and unbounded 1-sigmas).
 fn number(v: f64) -> String {
     if v.is_nan() {
         return "nan".into();
@@ -382,12 +390,22 @@ fn render(
         toml_util::quote(description)
     ));
     for (key, v, what) in paper_values(noise) {
-        out.push_str(&format!("{key} = {}    # {what}\n", number(v)));
+        if v == f64::INFINITY && key.ends_with("_correlation_s") {
+            out.push_str(&format!(
+                "# {key} left out: the bias is a random constant (no finite correlation time)\n"
+            ));
+        } else {
+            out.push_str(&format!("{key} = {}    # {what}\n", number(v)));
+        }
     }
     if let Some(s) = sigma {
         out.push_str("\n# 1-sigma of each figure above (same units)\n[imu.noise_sigma]\n");
         for (key, v, _) in paper_values(s) {
-            out.push_str(&format!("{key} = {}\n", number(v)));
+            if v == f64::INFINITY {
+                out.push_str(&format!("# {key} left out: the data put no bound on it\n"));
+            } else {
+                out.push_str(&format!("{key} = {}\n", number(v)));
+            }
         }
     }
     if let Some([g, a]) = unresolved_walk_per_sqrt_s {
@@ -488,6 +506,8 @@ mod tests {
             &["line one\nline two".into()],
         )
         .expect("written");
+        let text = std::fs::read_to_string(&path).expect("read");
+        assert!(!text.contains("= inf"), "an infinite figure was written:\n{text}");
         let t = load_noise(&path).expect("read back");
         assert!(t.from_noise_file);
         assert_eq!(t.description, "test \"quoted\"");

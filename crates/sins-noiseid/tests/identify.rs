@@ -479,3 +479,38 @@ fn quantum_exact_and_arw_within_3_sigma(id: &sins_noiseid::IdentifiedNoise, trut
         3.0,
     );
 }
+
+#[test]
+fn faster_turn_on_transients_are_named_and_left_out_too() {
+    // The hour-long chunks of the agreement test also catch transients of 5 and 10 min time
+    // constant (1 and 0.2 deg/h at turn-on). Left in, the 5 min one would lift the gyro bias
+    // instability 1.5 to 5 times; left out, it comes back within 3 sigma. (Measured, not
+    // asserted: transients slower than the chunks, 40-90 min, are not named; they raise the
+    // bias instability 10-28 times and are flagged inconsistent in two of three cases.)
+    let truth = 0.0005 * DEG / 3600.0;
+    for (tau_s, size_deg_per_h) in [(300.0, 1.0), (600.0, 0.2)] {
+        let transient = EffectSpec::BiasEvent {
+            kind: EffectKind::GyroBiasTransient,
+            magnitude_si: Vec3::new(0.0, 0.0, size_deg_per_h * DEG / 3600.0),
+            onset_s: 0.0,
+            time_constant_s: tau_s,
+        };
+        let with = identify_runs(&mut [
+            stationary_run_with(3.0, 11, vec![transient.clone()]),
+            stationary_run_with(3.0, 12, vec![transient]),
+        ]);
+        let note = with.turn_on_note().expect("a turn-on note");
+        assert!(note.contains("gyro_z"), "tau {tau_s}: {note}");
+        assert!(
+            (3590.0..3610.0).contains(&with.turn_on_left_out_s),
+            "tau {tau_s}: {}",
+            with.turn_on_left_out_s
+        );
+        within(
+            &format!("gyro bias instability, tau {tau_s} s"),
+            &with.gyro.bias_instability,
+            truth,
+            3.0,
+        );
+    }
+}

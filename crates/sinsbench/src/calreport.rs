@@ -36,8 +36,9 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
             (config.seeds + 7) * 2
         );
     }
-    crate::outputs::sweep(&args.reports_dir);
-    sins_report::check_output_dir(&args.reports_dir, "calibration", "calibration-report")?;
+    // Sweeps, checks that REPORTS/calibration is absent or a previous calibration report, and
+    // locks it for this process: a second `calibration-report` into it is refused at once.
+    crate::outputs::output_dir(&args.reports_dir.join("calibration"), "calibration-report")?;
     let study = run_study(&config)?;
     let json = serde_json::to_string_pretty(&study).context("serialising the study")?;
     let md = render_markdown(&study);

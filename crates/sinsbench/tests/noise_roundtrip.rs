@@ -1,7 +1,7 @@
 //! What `noise` writes, `diagnose --noise-from` reads (issue 30): on a very short still
 //! stretch, on a run without temperatures compensated with a 30-state set, and on a single
 //! noiseless stretch (whose rate random walks the data cannot bound: once written as `inf`,
-//! which the reader refuses), `noise` exits 0, its noise.toml holds no infinite bound and no
+//! which the reader refuses), `noise` exits 0, its noise.toml holds no infinite figure and no
 //! NaN, the reader `diagnose` uses takes it, and `diagnose --noise-from` runs with it.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
@@ -81,6 +81,10 @@ fn round_trip(
         .collect();
     for l in &figures {
         assert!(!l.to_lowercase().contains("nan"), "{case}: NaN in {l}");
+        // No infinite figure anywhere: a random constant's correlation time and a 1-sigma the
+        // data did not bound are left out with a comment (they were once written as `inf`).
+        let value = l.split('#').next().unwrap_or_default();
+        assert!(!value.contains("inf"), "{case}: an infinite figure in {l}\n{text}");
     }
     let walks = text
         .split("[imu.unresolved_walk]")

@@ -1,7 +1,8 @@
 //! Output sets replaced whole or not at all, and one writer per output directory (issue 30):
 //! an interrupted `simulate` leaves every previous dataset byte for byte and says so, and a
 //! second `simulate` into a directory that another one is writing is refused at once, naming the
-//! other process, in 20 trials out of 20.
+//! other process, in 20 trials out of 20; `calibration-report` is refused while its output is
+//! locked.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test or an example is its failure message
 
@@ -189,4 +190,35 @@ fn a_second_writer_into_the_same_directory_is_refused() {
          directory not the first writer's set {mixed}, leftovers {left}"
     );
     assert_eq!((refused, both_ran, mixed, left), (20, 0, 0, 0));
+}
+
+/// Issue 30, one writer per output: `calibration-report`, whose output directory's lock is held
+/// by another process, is refused at once (exit 2, naming the holder) and writes nothing (before
+/// this session it took no lock, ran its study and replaced the other process's report). The lock is held here by the test itself, as a running
+/// sinsbench would hold it (flock on the lock file, pid and command line inside).
+#[test]
+fn calibration_report_is_refused_while_another_holds_its_output() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let reports = dir.path().join("reports");
+    // calibration-report writes reports/calibration/ (its lock: reports/.calibration.sinsbench.lock).
+    std::fs::create_dir_all(&reports).unwrap();
+    let lock_path = reports.join(".calibration.sinsbench.lock");
+    let mut lock = std::fs::File::create(&lock_path).unwrap();
+    lock.try_lock().expect("the test takes the lock");
+    std::io::Write::write_all(&mut lock, b"4242\nsinsbench calibration-report --seeds 10\n").unwrap();
+    let o = common::run(&[
+        "calibration-report",
+        "--seeds",
+        "2",
+        "--reports-dir",
+        &s(&reports),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("another sinsbench process") && err.contains("pid 4242"),
+        "{err}"
+    );
+    assert!(!reports.join("calibration").exists());
+    drop(lock);
 }

@@ -1,6 +1,7 @@
 //! `reports`: a list of report configurations (many IMUs, many releases), one job per
 //! configuration, or with `noise_seeds = N` one job per configuration and sensor-noise seed
-//! (1..=N: the run-to-run spread a release gate compares against). Each job writes its full
+//! (K..K+N-1, K = `first_noise_seed`, default 1: the run-to-run spread a release gate compares
+//! against). Each job writes its full
 //! report under `DIR/reports/<name>/` (`<name>-seed<k>` with noise seeds); the reduce gathers
 //! every report's Table 5 cells into one table and its summaries into `summary.json`.
 
@@ -21,6 +22,8 @@ pub struct ReportsWork {
     configs: Vec<ReportConfig>,
     /// Noise seeds per configuration (0: the files' own seeds, one job each).
     noise_seeds: u64,
+    /// The first noise seed.
+    first_noise_seed: u64,
     fingerprint: String,
 }
 
@@ -36,6 +39,7 @@ impl ReportsWork {
         let Kind::Reports {
             configs,
             noise_seeds,
+            first_noise_seed,
         } = &c.kind
         else {
             return Err(job_error(0, "not a reports campaign"));
@@ -63,9 +67,15 @@ impl ReportsWork {
         }
         let noise_seeds = noise_seeds.unwrap_or(0);
         let _ = write!(fingerprint, "noise_seeds {noise_seeds}\n");
+        // Left out of the fingerprint at its default, so plans made before the key existed
+        // still open.
+        if *first_noise_seed != 1 {
+            let _ = write!(fingerprint, "first_noise_seed {first_noise_seed}\n");
+        }
         Ok(Self {
             configs: loaded,
             noise_seeds,
+            first_noise_seed: *first_noise_seed,
             fingerprint,
         })
     }
@@ -77,7 +87,7 @@ impl ReportsWork {
         let per = self.noise_seeds.max(1) as usize;
         let mut cfg = self.configs.get(job / per)?.clone();
         if self.noise_seeds > 0 {
-            let seed = (job % per) as u64 + 1;
+            let seed = (job % per) as u64 + self.first_noise_seed;
             cfg.noise_seed = Some(seed);
             cfg.name = format!("{}-seed{seed}", cfg.name);
         }
