@@ -116,3 +116,77 @@ fn damaged_results_are_missing_for_status_run_again_and_named_by_reduce() {
     );
     assert_eq!(std::fs::read(dir.join("summary.json")).unwrap(), summary);
 }
+
+/// Issue 30, no panic anywhere in the reduce: a shard result of the right shape whose numbers
+/// are extreme (±1e308, 0, −1, the largest integers; a seed repeated) is reduced or refused
+/// with exit 0 or 2, never a panic (exit 101). One edit per reduce, at every numeric field of an
+/// outcome (the first and the last element of each array).
+#[test]
+fn extreme_numbers_in_a_whole_result_never_panic_the_reduce() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = tmp.path().join("c.toml");
+    std::fs::write(
+        &cfg,
+        format!(
+            "schema = 1\nname = \"extreme\"\nkind = \"calibration-mc\"\nseed = 3\njobs_per_shard = 1\n[calibration_mc]\nseeds = 1\nexperiment = \"{}\"\nmax_duration_s = 1500.0\n",
+            experiments().join("paper_calibration.toml").display()
+        ),
+    )
+    .unwrap();
+    let (cfg, dir) = (s(&cfg), tmp.path().join("run"));
+    let d = s(&dir);
+    ok(&["campaign", "plan", &cfg, "--out", &d]);
+    ok(&["campaign", "shard", &d, "--index", "0"]);
+    ok(&["campaign", "shard", &d, "--index", "1"]);
+    let original = std::fs::read_to_string(shard_file(&dir, 0)).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&original).unwrap();
+    // Every numeric leaf of the outcome (arrays: first and last element).
+    fn leaves(v: &serde_json::Value, path: String, out: &mut Vec<String>) {
+        match v {
+            serde_json::Value::Object(m) => {
+                for (k, x) in m {
+                    leaves(x, format!("{path}/{k}"), out);
+                }
+            }
+            serde_json::Value::Array(a) if !a.is_empty() => {
+                for i in [0, a.len() - 1] {
+                    leaves(&a[i], format!("{path}/{i}"), out);
+                }
+            }
+            serde_json::Value::Number(_) => out.push(path),
+            _ => {}
+        }
+    }
+    let mut paths = Vec::new();
+    leaves(&json["outcomes"][0], "/outcomes/0".into(), &mut paths);
+    paths.dedup();
+    assert!(paths.len() >= 15, "{paths:?}");
+    let values = [
+        serde_json::json!(1e308),
+        serde_json::json!(-1e308),
+        serde_json::json!(0),
+        serde_json::json!(-1),
+        serde_json::json!(u64::MAX),
+    ];
+    let (mut reduced, mut refused_n) = (0, 0);
+    for (i, p) in paths.iter().enumerate() {
+        let mut v = json.clone();
+        *v.pointer_mut(p).unwrap() = values[i % values.len()].clone();
+        std::fs::write(shard_file(&dir, 0), v.to_string()).unwrap();
+        let (code, _, err) = sb(&["campaign", "reduce", &d]);
+        assert!(
+            matches!(code, Some(0 | 2)) && !err.contains("panicked"),
+            "{p} = {}: exit {code:?}: {err}",
+            values[i % values.len()]
+        );
+        if code == Some(0) {
+            reduced += 1;
+        } else {
+            refused_n += 1;
+        }
+    }
+    eprintln!(
+        "{} extreme values: {reduced} reduced, {refused_n} refused, 0 panics",
+        paths.len()
+    );
+}
