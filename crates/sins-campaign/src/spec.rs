@@ -421,7 +421,8 @@ mod tests {
 
     #[test]
     fn noise_seeds_start_at_one_unless_first_noise_seed_says_otherwise() {
-        let seeds = |extra: &str| match parse(&format!(
+        let seeds = |extra: &str| {
+            match parse(&format!(
             "schema = 1\nname = \"s\"\nkind = \"reports\"\n[reports]\nconfigs = [\"a.toml\"]\nnoise_seeds = 8\n{extra}"
         ))
         .unwrap()
@@ -433,6 +434,7 @@ mod tests {
                 ..
             } => (noise_seeds, first_noise_seed),
             other => panic!("{other:?}"),
+        }
         };
         assert_eq!(seeds(""), (Some(8), 1));
         assert_eq!(seeds("first_noise_seed = 9\n"), (Some(8), 9));

@@ -193,8 +193,17 @@ fn bytewise(bytes: &[u8], other: &[u8], rng: &mut Rng) -> Vec<u8> {
 /// (what the Table 1 reduce indexes).
 fn assert_shape(o: &Value, it: usize) {
     let len = |v: Option<&Value>| v.and_then(Value::as_array).map(Vec::len);
-    for (key, n) in [("estimate", 33), ("error", 33), ("sigma", 33), ("sigma_ratio", 42)] {
-        assert_eq!(len(o["outcome"].get(key)), Some(n), "iteration {it}: outcome.{key}");
+    for (key, n) in [
+        ("estimate", 33),
+        ("error", 33),
+        ("sigma", 33),
+        ("sigma_ratio", 42),
+    ] {
+        assert_eq!(
+            len(o["outcome"].get(key)),
+            Some(n),
+            "iteration {it}: outcome.{key}"
+        );
     }
     for (key, n) in [
         ("initial_sigma_si", 42),
@@ -209,7 +218,11 @@ fn assert_shape(o: &Value, it: usize) {
 fn damaged_shard_results_are_refused_or_whole_never_a_panic() {
     let m = manifest();
     let seeds = seeds();
-    assert!(seeds.len() >= 3, "fuzz/seeds/shard_result holds {}", seeds.len());
+    assert!(
+        seeds.len() >= 3,
+        "fuzz/seeds/shard_result holds {}",
+        seeds.len()
+    );
     // The seeds themselves: both shards whole are accepted where they belong, the cut one refused.
     let accepted_seeds = seeds
         .iter()
@@ -258,5 +271,8 @@ fn damaged_shard_results_are_refused_or_whole_never_a_panic() {
     );
     // Not vacuous: mutations that leave a result usable (a changed host or number) are accepted,
     // and most are refused.
-    assert!(accepted > 100 && refused > iterations, "{accepted} / {refused}");
+    assert!(
+        accepted > 100 && refused > iterations,
+        "{accepted} / {refused}"
+    );
 }

@@ -507,7 +507,10 @@ mod tests {
         )
         .expect("written");
         let text = std::fs::read_to_string(&path).expect("read");
-        assert!(!text.contains("= inf"), "an infinite figure was written:\n{text}");
+        assert!(
+            !text.contains("= inf"),
+            "an infinite figure was written:\n{text}"
+        );
         let t = load_noise(&path).expect("read back");
         assert!(t.from_noise_file);
         assert_eq!(t.description, "test \"quoted\"");

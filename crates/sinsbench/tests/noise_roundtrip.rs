@@ -84,7 +84,10 @@ fn round_trip(
         // No infinite figure anywhere: a random constant's correlation time and a 1-sigma the
         // data did not bound are left out with a comment (they were once written as `inf`).
         let value = l.split('#').next().unwrap_or_default();
-        assert!(!value.contains("inf"), "{case}: an infinite figure in {l}\n{text}");
+        assert!(
+            !value.contains("inf"),
+            "{case}: an infinite figure in {l}\n{text}"
+        );
     }
     let walks = text
         .split("[imu.unresolved_walk]")

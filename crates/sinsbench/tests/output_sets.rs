@@ -205,7 +205,11 @@ fn calibration_report_is_refused_while_another_holds_its_output() {
     let lock_path = reports.join(".calibration.sinsbench.lock");
     let mut lock = std::fs::File::create(&lock_path).unwrap();
     lock.try_lock().expect("the test takes the lock");
-    std::io::Write::write_all(&mut lock, b"4242\nsinsbench calibration-report --seeds 10\n").unwrap();
+    std::io::Write::write_all(
+        &mut lock,
+        b"4242\nsinsbench calibration-report --seeds 10\n",
+    )
+    .unwrap();
     let o = common::run(&[
         "calibration-report",
         "--seeds",
