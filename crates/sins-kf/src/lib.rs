@@ -26,7 +26,7 @@
 //!   nuisance states beside eq (8) ([`FilterNoise`]); a tiny numerical floor
 //!   ([`ARW_FLOOR_RAD_PER_SQRT_S`]) keeps noise-free runs regular.
 //! - **Navigation**: free vertical channel, two-sample increments with the second-order
-//!   rotation term (module `increments`), which removes a 0.02 ppm scale-factor bias the classical
+//!   rotation term (`sins_nav::mechanization`), which removes a 0.02 ppm scale-factor bias the classical
 //!   algorithm leaves under the scheme's turns.
 
 #![warn(missing_docs)]
