@@ -38,24 +38,31 @@ fn shard_file(dir: &Path, s: usize) -> std::path::PathBuf {
     dir.join(format!("shards/shard-{s:05}.json"))
 }
 
-#[test]
-fn damaged_results_are_missing_for_status_run_again_and_named_by_reduce() {
-    let tmp = tempfile::tempdir().unwrap();
-    // One seed and the noise-free run, cut to 25 min: 2 jobs, one per shard.
-    let cfg = tmp.path().join("c.toml");
+/// Plans and runs a 2-shard calibration-mc campaign named `name` in `tmp` (one seed and the
+/// noise-free run, cut to 25 min: 2 jobs, one per shard); returns its file and directory.
+fn two_shard_campaign(tmp: &Path, name: &str) -> (String, std::path::PathBuf) {
+    let cfg = tmp.join("c.toml");
     std::fs::write(
         &cfg,
         format!(
-            "schema = 1\nname = \"damaged\"\nkind = \"calibration-mc\"\nseed = 3\njobs_per_shard = 1\n[calibration_mc]\nseeds = 1\nexperiment = \"{}\"\nmax_duration_s = 1500.0\n",
+            "schema = 1\nname = \"{name}\"\nkind = \"calibration-mc\"\nseed = 3\njobs_per_shard = 1\n[calibration_mc]\nseeds = 1\nexperiment = \"{}\"\nmax_duration_s = 1500.0\n",
             experiments().join("paper_calibration.toml").display()
         ),
     )
     .unwrap();
-    let (cfg, dir) = (s(&cfg), tmp.path().join("run"));
+    let (cfg, dir) = (s(&cfg), tmp.join("run"));
     let d = s(&dir);
     ok(&["campaign", "plan", &cfg, "--out", &d]);
     ok(&["campaign", "shard", &d, "--index", "0"]);
     ok(&["campaign", "shard", &d, "--index", "1"]);
+    (cfg, dir)
+}
+
+#[test]
+fn damaged_results_are_missing_for_status_run_again_and_named_by_reduce() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (cfg, dir) = two_shard_campaign(tmp.path(), "damaged");
+    let d = s(&dir);
     assert_eq!(ok(&["campaign", "status", &d, "--missing"]).0, "\n");
 
     // Truncated (a copy cut off): missing for status, named by reduce, run again by shard.
@@ -124,20 +131,8 @@ fn damaged_results_are_missing_for_status_run_again_and_named_by_reduce() {
 #[test]
 fn extreme_numbers_in_a_whole_result_never_panic_the_reduce() {
     let tmp = tempfile::tempdir().unwrap();
-    let cfg = tmp.path().join("c.toml");
-    std::fs::write(
-        &cfg,
-        format!(
-            "schema = 1\nname = \"extreme\"\nkind = \"calibration-mc\"\nseed = 3\njobs_per_shard = 1\n[calibration_mc]\nseeds = 1\nexperiment = \"{}\"\nmax_duration_s = 1500.0\n",
-            experiments().join("paper_calibration.toml").display()
-        ),
-    )
-    .unwrap();
-    let (cfg, dir) = (s(&cfg), tmp.path().join("run"));
+    let (_, dir) = two_shard_campaign(tmp.path(), "extreme");
     let d = s(&dir);
-    ok(&["campaign", "plan", &cfg, "--out", &d]);
-    ok(&["campaign", "shard", &d, "--index", "0"]);
-    ok(&["campaign", "shard", &d, "--index", "1"]);
     let original = std::fs::read_to_string(shard_file(&dir, 0)).unwrap();
     let json: serde_json::Value = serde_json::from_str(&original).unwrap();
     // Every numeric leaf of the outcome (arrays: first and last element).
