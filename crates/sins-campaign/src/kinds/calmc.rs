@@ -2,29 +2,12 @@
 //! then the noise-free run), reduced to the same Table 1 study as `calibration-report`.
 
 use crate::CampaignError;
-use crate::kinds::{check_len, parse};
+use crate::kinds::parse;
+use crate::kinds::shape::calibration_mc;
 use crate::spec::{Campaign, Kind};
 use crate::work::{Work, from_values, job_error, pretty, to_value, write_text};
 use sins_calstudy::{McRunOutcome, Table1MonteCarlo, render_table1_markdown};
 use std::path::Path;
-
-/// Coefficients of the 42-state filter (eq 8): the length of every per-seed estimate.
-const COEFFICIENTS: usize = 33;
-/// States of the 42-state filter (9 navigation states and the coefficients).
-const STATES: usize = 42;
-
-/// Every array of a seed's outcome has the length of a 42-state calibration's (Table 1's
-/// assembly indexes them by state).
-pub fn check_shape(o: &McRunOutcome) -> Result<(), String> {
-    let what = "a 42-state calibration";
-    check_len("estimate", o.outcome.estimate.len(), COEFFICIENTS, what)?;
-    check_len("error", o.outcome.error.len(), COEFFICIENTS, what)?;
-    check_len("sigma", o.outcome.sigma.len(), COEFFICIENTS, what)?;
-    check_len("sigma_ratio", o.outcome.sigma_ratio.len(), STATES, what)?;
-    check_len("initial_sigma_si", o.initial_sigma_si.len(), STATES, what)?;
-    check_len("final_sigma_si", o.final_sigma_si.len(), STATES, what)?;
-    check_len("estimate_si", o.estimate_si.len(), COEFFICIENTS, what)
-}
 
 /// The Table 1 Monte Carlo as campaign work.
 pub struct CalMcWork {
@@ -64,7 +47,7 @@ impl Work for CalMcWork {
     }
     fn check_outcome(&self, job: usize, outcome: &serde_json::Value) -> Result<(), String> {
         let o: McRunOutcome = parse(outcome)?;
-        check_shape(&o)?;
+        calibration_mc(&o)?;
         let seed = self
             .mc
             .seeds()
@@ -95,13 +78,5 @@ impl Work for CalMcWork {
         write_text(out, "summary.json", &pretty(&study)?)?;
         write_text(out, "report.md", &render_table1_markdown(&study))?;
         Ok(vec!["summary.json".into(), "report.md".into()])
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn the_lengths_are_those_of_the_42_state_filter() {
-        assert_eq!(sins_calstudy::units::PARAMS.len(), super::COEFFICIENTS);
     }
 }

@@ -1,16 +1,28 @@
-//! The kinds of campaign.
+//! The kinds of campaign: each one's work (with the `work` feature) and the shape of its outcomes.
 
+#[cfg(feature = "work")]
 pub mod blind;
+#[cfg(feature = "work")]
 pub mod calmc;
+#[cfg(feature = "work")]
 pub mod reports;
+pub mod shape;
+#[cfg(feature = "work")]
 pub mod uq;
 
-use crate::CampaignError;
-use crate::spec::{Campaign, Kind};
-use crate::work::Work;
-use serde::de::DeserializeOwned;
+pub use shape::check_shape;
+#[cfg(feature = "work")]
+pub(crate) use shape::parse;
+
+#[cfg(feature = "work")]
+use crate::{
+    CampaignError,
+    spec::{Campaign, Kind},
+    work::Work,
+};
 
 /// The work of a campaign.
+#[cfg(feature = "work")]
 pub fn load_work(campaign: &Campaign) -> Result<Box<dyn Work>, CampaignError> {
     Ok(match &campaign.kind {
         Kind::Blind { .. } => Box::new(blind::BlindWork::new(campaign)?),
@@ -18,46 +30,4 @@ pub fn load_work(campaign: &Campaign) -> Result<Box<dyn Work>, CampaignError> {
         Kind::ReplicaUq { .. } => Box::new(uq::UqWork::new(campaign)?),
         Kind::Reports { .. } => Box::new(reports::ReportsWork::new(campaign)?),
     })
-}
-
-/// Checks that `outcome` has the shape of an outcome of the campaign kind named `kind` (what
-/// the files alone can tell: it parses, its arrays have their fixed lengths); a kind's
-/// [`Work::check_outcome`] checks it against its job. An unknown kind checks nothing (the
-/// manifest holding it cannot be opened).
-pub fn check_shape(kind: &str, outcome: &serde_json::Value) -> Result<(), String> {
-    match kind {
-        "blind" => parse::<sins_diag::report::Diagnosis>(outcome).map(drop),
-        "calibration-mc" => calmc::check_shape(&parse(outcome)?),
-        "replica-uq" => uq::check_shape(&parse(outcome)?),
-        "reports" => parse::<sins_harness::summary::Summary>(outcome).map(drop),
-        _ => Ok(()),
-    }
-}
-
-/// An outcome as its kind's type, or what does not parse.
-pub(crate) fn parse<T: DeserializeOwned>(outcome: &serde_json::Value) -> Result<T, String> {
-    T::deserialize(outcome).map_err(|e| format!("does not parse ({e})"))
-}
-
-/// An array's length against the one it must have.
-pub(crate) fn check_len(name: &str, len: usize, want: usize, what: &str) -> Result<(), String> {
-    if len == want {
-        return Ok(());
-    }
-    Err(format!("{name} has {len} values where {what} has {want}"))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn every_kind_checks_the_shape_of_its_outcomes() {
-        for kind in crate::spec::KINDS {
-            assert!(
-                check_shape(kind, &serde_json::Value::Null).is_err(),
-                "{kind}"
-            );
-        }
-    }
 }

@@ -2,36 +2,13 @@
 //! `replica-uq`'s fixed job order), reduced to the same summary, Markdown and figures.
 
 use crate::CampaignError;
-use crate::kinds::{check_len, parse};
+use crate::kinds::parse;
+use crate::kinds::shape::{check_len, replica_uq};
 use crate::spec::{Campaign, Kind};
 use crate::work::{Work, from_values, job_error, to_value};
 use sins_report::{UqStudy, load_uq_study, write_uq_outputs};
 use sins_uq::sample::{Job, SampleOutcome, all_jobs, run_job, study_name};
 use std::path::Path;
-
-/// Coefficients of the 42-state and of the 30-state filter (eq 8 and its first 21).
-const COEFFICIENTS: [usize; 2] = [33, 21];
-
-/// The arrays of a sample whose lengths are fixed: each filter's coefficient errors, and at
-/// least one navigation run.
-pub fn check_shape(o: &SampleOutcome) -> Result<(), String> {
-    check_len(
-        "error42",
-        o.error42.len(),
-        COEFFICIENTS[0],
-        "a 42-state set",
-    )?;
-    check_len(
-        "error30",
-        o.error30.len(),
-        COEFFICIENTS[1],
-        "a 30-state set",
-    )?;
-    if o.max_horizontal_m.is_empty() {
-        return Err("max_horizontal_m holds no navigation run".into());
-    }
-    Ok(())
-}
 
 /// The replica's Monte Carlo as campaign work.
 pub struct UqWork {
@@ -91,7 +68,7 @@ impl Work for UqWork {
     }
     fn check_outcome(&self, job: usize, outcome: &serde_json::Value) -> Result<(), String> {
         let o: SampleOutcome = parse(outcome)?;
-        check_shape(&o)?;
+        replica_uq(&o)?;
         let j = self.jobs.get(job).ok_or("is beyond the study's jobs")?;
         let study = study_name(&self.study.set, *j);
         if (o.study.as_str(), o.index) != (study.as_str(), j.index()) {
