@@ -16,6 +16,7 @@ use crate::homogeneity::{self, Chunk};
 use crate::quant::LatticeDetector;
 use crate::result::ChangeReport;
 use crate::steps::{self, BiasChange};
+use crate::turnon::Opening;
 use sins_imu::ImuSample;
 use std::collections::BTreeMap;
 
@@ -43,11 +44,16 @@ pub(crate) struct Accumulator {
     min_stretch_samples: u64,
     pub pooled: BTreeMap<u64, [PooledTau; CHANNELS]>,
     pub stretches: Vec<StretchStats>,
-    pub lattice: [LatticeDetector; 3],
+    /// Each channel's lattice (gyro rad, accelerometer m/s), read from the raw increments.
+    pub lattice: [LatticeDetector; CHANNELS],
     pub skipped: Vec<(usize, f64, u64)>,
     /// The still stretches cut into hours, for the test of their agreement
     /// ([`crate::homogeneity`]).
     pub chunks: Vec<Chunk>,
+    /// Each run's first still stretch up to its first bias change, for the turn-on test
+    /// ([`crate::turnon`]; its `offset_s` is the stretch's start time until the identification
+    /// makes it relative to the run's first sample).
+    pub openings: Vec<Opening>,
     open: Option<Open>,
 }
 
@@ -81,6 +87,7 @@ impl Accumulator {
             lattice: std::array::from_fn(|_| LatticeDetector::default()),
             skipped: Vec::new(),
             chunks: Vec::new(),
+            openings: Vec::new(),
             open: None,
         }
     }
@@ -94,20 +101,29 @@ impl Accumulator {
         self.bin.trailing_zeros() as usize + 1
     }
 
-    /// Feed one sample: `stationary` says whether its segment is one of the chosen labels.
+    /// Feed one sample: `stationary` says whether its segment is one of the chosen labels;
+    /// `raw` is the sample as recorded (the same as `s` unless the accelerometer increments
+    /// were compensated), whose increments the lattice of each channel is read from.
     #[inline]
-    pub fn push(&mut self, run: usize, s: &ImuSample, stationary: bool) {
+    pub fn push(&mut self, run: usize, s: &ImuSample, raw: &ImuSample, stationary: bool) {
+        let r = [
+            raw.dtheta_rad.x,
+            raw.dtheta_rad.y,
+            raw.dtheta_rad.z,
+            raw.dv_mps.x,
+            raw.dv_mps.y,
+            raw.dv_mps.z,
+        ];
         if !stationary {
             // The lattice is checked over every sample, its quantum read from the still ones.
-            for (l, g) in
-                self.lattice
-                    .iter_mut()
-                    .zip([s.dtheta_rad.x, s.dtheta_rad.y, s.dtheta_rad.z])
-            {
-                l.check(g);
+            for (l, x) in self.lattice.iter_mut().zip(r) {
+                l.check(x);
             }
             self.close();
             return;
+        }
+        for (l, x) in self.lattice.iter_mut().zip(r) {
+            l.push(x);
         }
         let v = [
             s.dtheta_rad.x,
@@ -139,9 +155,6 @@ impl Accumulator {
                 bins: vec![[0.0; CHANNELS]],
             }
         });
-        for (l, g) in self.lattice.iter_mut().zip(&v[..3]) {
-            l.push(*g);
-        }
         o.points += 1;
         let p = o.points as usize;
         let len = o.mask + 1;
@@ -196,6 +209,22 @@ impl Accumulator {
             })
             .collect();
         let pieces: Vec<_> = changes.iter().map(|ch| steps::pieces(nb, ch)).collect();
+        if !self.openings.iter().any(|op| op.run == o.run) {
+            // Up to the first bias change on any channel, except those in the first
+            // `OPENING_FREE_S`: a change found so early is often the transient itself.
+            let early = (OPENING_FREE_S / tau0_s).ceil() as usize;
+            let end = pieces
+                .iter()
+                .map(|p| first_gap_after(p, nb, early))
+                .min()
+                .unwrap_or(nb);
+            self.openings.push(Opening {
+                run: o.run,
+                offset_s: o.start_s,
+                tau0_s,
+                bins: o.bins[..end.min(nb)].to_vec(),
+            });
+        }
         self.chunks.extend(homogeneity::chunks(
             o.run, o.start_s, tau0_s, &o.bins, &pieces,
         ));
@@ -240,6 +269,21 @@ impl Accumulator {
             })
         })
     }
+}
+
+/// A bias change found within this time of a run's first still stretch (s) does not end the
+/// stretch for the turn-on test.
+const OPENING_FREE_S: f64 = 600.0;
+
+/// The start of the first gap between `pieces` (of `nb` bin points) that begins after bin
+/// `early`, or `nb`.
+fn first_gap_after(pieces: &[std::ops::Range<usize>], nb: usize, early: usize) -> usize {
+    let mut gaps = pieces
+        .iter()
+        .map(|r| r.end)
+        .filter(|&e| e < nb)
+        .chain(pieces.first().filter(|r| r.start > 0).map(|_| 0));
+    gaps.find(|&g| g > early).unwrap_or(nb)
 }
 
 /// Squared second differences of channel `c` at a stride of `mb` bin points, and their count.

@@ -19,12 +19,10 @@
 //! real sensor's temperature alone can make, and a twin within that is still a fair model.
 //!
 //! Measured reach for a gyro turn-on transient (two 3 h paper-noise runs, the transient in both;
-//! `tests/identify.rs`): time constants of 5-20 min at 0.2-1 deg/h are named and their first
-//! hour left out, and the bias instability comes back within 3 sigma. Not named: a 2.5 min,
-//! 1 deg/h transient (bias instability 4.6x the truth); a 20 min one at 0.05 deg/h (5.4x,
-//! flagged inconsistent); transients slower than the chunks, 40-90 min at 0.05-0.2 deg/h
-//! (10-28x; flagged inconsistent in two of three cases). Slow trends lift the first chunks
-//! together and barely move the Allan variance at the one bias octave compared.
+//! `tests/identify.rs`): time constants of 5-20 min at 0.2-1 deg/h are named here and their
+//! first hour left out. Shorter (2.5 min) and slower (40-90 min) ones are not: the first are
+//! diluted in their hour, the second lift the first chunks together. The direct test of a
+//! decay from each run's first sample ([`crate::turnon`]) names those.
 
 use crate::allan::{NoiseType, edf};
 use crate::channels::{CHANNEL_NAMES, CHANNELS};

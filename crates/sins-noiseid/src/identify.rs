@@ -12,6 +12,7 @@ use crate::quant::ramp_quantization_avar;
 use crate::result::{
     AllanCurve, Estimate, IdentifiedNoise, RunUsage, SensorNoise, StretchReport, instability_of,
 };
+use crate::turnon::{self, ChannelNoise};
 use sins_diag::chi2_sf;
 use sins_diag::source::SampleSource;
 use sins_imu::{Compensator, ImuErrorParams};
@@ -65,7 +66,7 @@ pub fn identify_noise(
     let found: Vec<String> = first
         .inconsistent
         .iter()
-        .filter(|r| r.contains(homogeneity::TURN_ON_TEXT))
+        .filter(|r| r.contains(homogeneity::TURN_ON_TEXT) || r.contains(turnon::TRANSIENT_TEXT))
         .cloned()
         .collect();
     // Leave out the chunk that stood out and test again: a transient longer than a chunk shows
@@ -153,11 +154,11 @@ fn identify_pass(
                 let stationary = candidate(*g) && cursor.still(&found) && s.t_s - started >= skip_s;
                 match &comp {
                     Some(c) if stationary => {
-                        let mut s = *s;
-                        s.dv_mps = c.dv_mps(&s.dv_mps, h_s, &s.temp_degc);
-                        acc.push(i, &s, true);
+                        let mut compensated = *s;
+                        compensated.dv_mps = c.dv_mps(&s.dv_mps, h_s, &s.temp_degc);
+                        acc.push(i, &compensated, s, true);
                     }
-                    _ => acc.push(i, s, stationary),
+                    _ => acc.push(i, s, s, stationary),
                 }
             }
             Ok(())
@@ -212,16 +213,22 @@ fn identify_pass(
         h_s,
     };
     // A partial lattice still gives the quantization's size (and is reported as inconsistent).
-    let lattice: Option<[f64; 3]> = match acc
-        .lattice
-        .each_ref()
-        .map(|l| l.quantum().or_else(|| l.partial_quantum()))
-    {
-        [Some(a), Some(b), Some(c)] => Some([a, b, c]),
-        _ => None,
+    let lattice = |channel0: usize| -> Option<[f64; 3]> {
+        let q: [Option<f64>; 3] = std::array::from_fn(|a| {
+            let l = &acc.lattice[channel0 + a];
+            l.quantum().or_else(|| l.partial_quantum())
+        });
+        match q {
+            [Some(a), Some(b), Some(c)] => Some([a, b, c]),
+            _ => None,
+        }
     };
-    let gyro = ctx.fit_gyro(lattice);
-    let accel = ctx.fit_triad(3, None, [false, true, true, false]);
+    let (gyro_q, accel_q) = (lattice(0), lattice(3));
+    let gyro = ctx.fit_quantised(0, gyro_q);
+    // An accelerometer's quantum is not an offset: a pulse-counting one carries the remainder
+    // (white phase, the ramp model), one that rounds each sample does not (white rate, part of
+    // the random walk); its free white-phase term holds whichever the data show.
+    let accel = ctx.fit_quantised(3, None);
     let mut notes = Vec::new();
     let compensated: Vec<&str> = runs
         .iter()
@@ -239,30 +246,33 @@ fn identify_pass(
             compensated.join(", ")
         )
     });
-    let mut gyro_axes: Vec<SensorNoise> = (0..3)
-        .map(|a| gyro.axes[a].summary(lattice.map(|q| q[a])))
-        .collect();
-    let mut accel_axes: Vec<SensorNoise> = (0..3).map(|a| accel.axes[a].summary(None)).collect();
-    let mut gyro_sum = gyro
-        .triad
-        .summary(lattice.map(|q| (q[0] + q[1] + q[2]) / 3.0));
-    let mut accel_sum = accel.triad.summary(None);
+    let axes = |fits: &TriadFits, q: Option<[f64; 3]>, gyro: bool| -> Vec<SensorNoise> {
+        (0..3)
+            .map(|a| fits.axes[a].summary(q.map(|q| q[a]), gyro))
+            .collect()
+    };
+    let mean = |q: Option<[f64; 3]>| q.map(|q| (q[0] + q[1] + q[2]) / 3.0);
+    let mut gyro_axes = axes(&gyro, gyro_q, true);
+    let mut accel_axes = axes(&accel, accel_q, false);
+    let mut gyro_sum = gyro.triad.summary(mean(gyro_q), true);
+    let mut accel_sum = accel.triad.summary(mean(accel_q), false);
     if ctx.rrw {
         // The rate random walk from an extended fit (the twin's terms plus K): at the lengths of
         // these runs it is nearly degenerate with a Gauss-Markov bias of long correlation, so
         // the twin's terms come from the fit without it.
-        let gyro_offsets: [Vec<f64>; 3] = std::array::from_fn(|a| gyro.axes[a].offsets.clone());
+        let offsets =
+            |f: &TriadFits| -> [Vec<f64>; 3] { std::array::from_fn(|a| f.axes[a].offsets.clone()) };
+        let gyro_offsets = offsets(&gyro);
         let with = |on: [bool; 4]| [on[0], true, true, true];
-        let g = ctx.fit_triad(0, lattice.map(|_| &gyro_offsets), with(gyro.triad.enabled));
+        let g = ctx.fit_triad(0, gyro_q.map(|_| &gyro_offsets), with(gyro.triad.enabled));
         let a = ctx.fit_triad(3, None, with(accel.triad.enabled));
         for (fits, sum, axes) in [
             (&g, &mut gyro_sum, &mut gyro_axes),
             (&a, &mut accel_sum, &mut accel_axes),
         ] {
-            sum.rate_random_walk_per_sqrt_s = fits.triad.summary(None).rate_random_walk_per_sqrt_s;
+            sum.rate_random_walk_per_sqrt_s = fits.triad.rate_random_walk();
             for (k, ax) in axes.iter_mut().enumerate() {
-                ax.rate_random_walk_per_sqrt_s =
-                    fits.axes[k].summary(None).rate_random_walk_per_sqrt_s;
+                ax.rate_random_walk_per_sqrt_s = fits.axes[k].rate_random_walk();
             }
         }
     }
@@ -287,8 +297,10 @@ fn identify_pass(
     }
     inconsistent.extend(curves.iter().filter_map(model_check));
     let mut turn_on_s: Option<f64> = None;
-    let quanta: [Option<f64>; CHANNELS] =
-        std::array::from_fn(|c| lattice.and_then(|q| q.get(c).copied()));
+    let quanta: [Option<f64>; CHANNELS] = std::array::from_fn(|c| {
+        let q = if c < 3 { gyro_q } else { accel_q };
+        q.map(|q| q[c % 3])
+    });
     for h in homogeneity::test(&acc.chunks, acc.tau0_s(), &quanta) {
         let text = heterogeneity_text(&h, runs);
         if h.finding {
@@ -300,6 +312,31 @@ fn identify_pass(
             }
         }
         notes.push(text);
+    }
+    let noise: [ChannelNoise; CHANNELS] = std::array::from_fn(|c| {
+        let f = if c < 3 {
+            &gyro.axes[c]
+        } else {
+            &accel.axes[c - 3]
+        };
+        let th = f.fit.fit.theta;
+        ChannelNoise {
+            white: th[1].max(0.0).sqrt(),
+            gm_sigma: th[2].max(0.0).sqrt(),
+            gm_correlation_s: f.fit.correlation_s,
+        }
+    });
+    let mut openings = std::mem::take(&mut acc.openings);
+    for o in &mut openings {
+        o.offset_s -= first_t_s.get(o.run).copied().unwrap_or(0.0) - h_s;
+    }
+    for t in turnon::test(&openings, &noise) {
+        let name = |r: usize| runs.get(r).map_or_else(|| "?".into(), |x| x.name.clone());
+        let text = turnon::text(&t, &name);
+        inconsistent.push(text.clone());
+        notes.push(text);
+        let end_s = t.leave_out_s.ceil();
+        turn_on_s = Some(turn_on_s.map_or(end_s, |s| s.max(end_s)));
     }
     let runs_out = runs
         .iter()
@@ -458,29 +495,40 @@ impl FitContext<'_> {
         }
     }
 
-    /// The gyro triad: with a detected lattice, the quantization of a gyro at rest is a known
-    /// offset (the ramp model), refined twice with the fitted random walk and bias wander.
-    fn fit_gyro(&self, lattice: Option<[f64; 3]>) -> TriadFits {
+    /// The triad starting at `channel0`, with a free `3Q²/τ²` term (white angle or velocity
+    /// noise: quantization, vibration, dither). With a detected lattice the quantization of a
+    /// sensor at rest is also a known offset (the ramp model), refined twice with the fitted
+    /// white noise and bias wander, and the free term is what the data hold beyond it.
+    fn fit_quantised(&self, channel0: usize, lattice: Option<[f64; 3]>) -> TriadFits {
+        let enabled = [true, true, true, false];
         let Some(q) = lattice else {
-            return self.fit_triad(0, None, [true, true, true, false]);
+            return self.fit_triad(channel0, None, enabled);
         };
-        let enabled = [false, true, true, false];
-        let o = self.ramp_offsets(&q, 0.0, 0.0, 0.0);
-        let mut fits = self.fit_triad(0, Some(&o), enabled);
+        let o = self.ramp_offsets(channel0, &q, 0.0, 0.0, 0.0);
+        let mut fits = self.fit_triad(channel0, Some(&o), enabled);
         for _ in 0..2 {
             let th = fits.triad.fit.fit.theta;
-            let o = self.ramp_offsets(&q, th[1].sqrt(), th[2].sqrt(), th[3].sqrt());
-            fits = self.fit_triad(0, Some(&o), enabled);
+            let o = self.ramp_offsets(channel0, &q, th[1].sqrt(), th[2].sqrt(), th[3].sqrt());
+            fits = self.fit_triad(channel0, Some(&o), enabled);
         }
         fits
     }
 
-    fn ramp_offsets(&self, q: &[f64; 3], arw: f64, bias_sigma: f64, rrw: f64) -> [Vec<f64>; 3] {
+    /// Each axis' expected quantization Allan variance at every `τ` (weighted over the stretches
+    /// by their second differences), for quanta `q` of the triad at `channel0`.
+    fn ramp_offsets(
+        &self,
+        channel0: usize,
+        q: &[f64; 3],
+        arw: f64,
+        bias_sigma: f64,
+        rrw: f64,
+    ) -> [Vec<f64>; 3] {
         std::array::from_fn(|a| {
             self.taus
                 .iter()
                 .map(|p| {
-                    let pt = &p[a];
+                    let pt = &p[channel0 + a];
                     let (mut num, mut den) = (0.0, 0.0);
                     for &(idx, n, m) in &pt.stretches {
                         let Some(s) = self.stretches.get(idx) else {
@@ -492,7 +540,8 @@ impl FitContext<'_> {
                             + q[a].powi(2) / (6.0 * t_s * t_s))
                             .sqrt();
                         let w = (n - 2 * m) as f64;
-                        num += w * ramp_quantization_avar(q[a], s.mean_rate[a], pt.tau_s, arw, du);
+                        let rate = s.mean_rate[channel0 + a];
+                        num += w * ramp_quantization_avar(q[a], rate, pt.tau_s, arw, du);
                         den += w;
                     }
                     if den > 0.0 { num / den } else { 0.0 }
@@ -567,31 +616,48 @@ fn dominant_term(theta: &[f64; 4], tau_s: f64, corr_s: f64, offset: f64) -> Term
 }
 
 impl Fitted {
-    /// Physical terms (square roots of `θ`, 1-sigma by the delta method).
-    fn summary(&self, lattice_quantum: Option<f64>) -> SensorNoise {
+    /// Physical term `j` (square root of `θ_j` times `scale`, 1-sigma by the delta method; a
+    /// 95 % upper bound where it is zero).
+    fn root(&self, j: usize, scale: f64) -> Estimate {
         let f = &self.fit.fit;
-        let root = |j: usize, scale: f64| -> Estimate {
-            let th = f.theta[j];
-            if th > 0.0 {
-                let v = th.sqrt();
-                Estimate {
-                    value: scale * v,
-                    sigma: scale * f.sigma[j] / (2.0 * v),
-                    upper_95: None,
-                }
-            } else {
-                Estimate {
-                    value: 0.0,
-                    sigma: 0.0,
-                    upper_95: f.upper95[j].map(|u| scale * u.max(0.0).sqrt()),
-                }
+        let th = f.theta[j];
+        if th > 0.0 {
+            let v = th.sqrt();
+            Estimate {
+                value: scale * v,
+                sigma: scale * f.sigma[j] / (2.0 * v),
+                upper_95: None,
             }
+        } else {
+            Estimate {
+                value: 0.0,
+                sigma: 0.0,
+                upper_95: f.upper95[j].map(|u| scale * u.max(0.0).sqrt()),
+            }
+        }
+    }
+
+    /// The fitted rate random walk (0 where the fit left it out).
+    fn rate_random_walk(&self) -> Estimate {
+        if self.enabled[3] {
+            self.root(3, 1.0)
+        } else {
+            Estimate::exact(0.0)
+        }
+    }
+
+    /// Physical terms; `lattice_quantum` the quantum read off the increments. The free
+    /// `3Q²/τ²` term is a gyro's quantum when its increments are on no lattice (`gyro`), else
+    /// [`SensorNoise::white_phase`].
+    fn summary(&self, lattice_quantum: Option<f64>, gyro: bool) -> SensorNoise {
+        let f = &self.fit.fit;
+        let free = self.root(0, 12f64.sqrt());
+        let (quantum, excess) = match lattice_quantum {
+            Some(q) => (Estimate::exact(q), free),
+            None if gyro => (free, Estimate::exact(0.0)),
+            None => (Estimate::exact(0.0), free),
         };
-        let quantum = match lattice_quantum {
-            Some(q) => Estimate::exact(q),
-            None if self.enabled[0] => root(0, 12f64.sqrt()),
-            None => Estimate::exact(0.0),
-        };
+        let root = |j: usize, scale: f64| self.root(j, scale);
         let bias_sigma = root(2, 1.0);
         let corr = if bias_sigma.value > 0.0 {
             Estimate {
@@ -607,14 +673,11 @@ impl Fitted {
             white_per_sqrt_s: root(1, 1.0),
             quantum,
             quantum_from_lattice: lattice_quantum.is_some(),
+            white_phase: excess,
             bias_sigma,
             bias_instability: instability_of(bias_sigma),
             bias_correlation_s: corr,
-            rate_random_walk_per_sqrt_s: if self.enabled[3] {
-                root(3, 1.0)
-            } else {
-                Estimate::exact(0.0)
-            },
+            rate_random_walk_per_sqrt_s: self.rate_random_walk(),
             chi2: f.chi2,
             points: f.model.len(),
             parameters: active + usize::from(bias_sigma.value > 0.0),
@@ -742,33 +805,42 @@ fn model_check(c: &AllanCurve) -> Option<String> {
     ))
 }
 
-/// Notes on each gyro's lattice, and the reasons a partial lattice makes the model suspect.
+/// A quantum in words: gyro in arcsec, accelerometer in mm/s.
+fn quantum_text(channel: usize, q: f64) -> String {
+    if channel < 3 {
+        format!("{:.4} arcsec", q / (std::f64::consts::PI / 648_000.0))
+    } else {
+        format!("{:.4} mm/s", q * 1e3)
+    }
+}
+
+/// Notes on each channel's lattice, and the reasons a partial lattice makes the model suspect.
 fn lattice_findings(acc: &Accumulator, notes: &mut Vec<String>) -> Vec<String> {
-    let arcsec = std::f64::consts::PI / 648_000.0;
     let mut out = Vec::new();
-    for (axis, l) in ["x", "y", "z"].iter().zip(&acc.lattice) {
-        let Some(c) = l.coverage() else { continue };
-        if c.holds() {
+    for (c, l) in acc.lattice.iter().enumerate() {
+        let Some(cov) = l.coverage() else { continue };
+        if cov.holds() {
             continue;
         }
-        let on = 100.0 * c.fraction_on();
+        let name = CHANNEL_NAMES[c];
+        let on = 100.0 * cov.fraction_on();
         if on >= 50.0 {
             let text = format!(
-                "gyro {axis}: {on:.1} % of the {} increments lie on a {:.4} arcsec lattice and \
-                 the rest off it: the output is quantised for only part of the data (corrected \
-                 in floating point from some point on?); its quantum is kept for the \
-                 quantization term (a correction in floating point keeps the rounding the output \
-                 was given), and the model is marked inconsistent",
-                c.checked,
-                c.quantum / arcsec
+                "{name}: {on:.1} % of the {} increments lie on a {} lattice and the rest off it: \
+                 the output is quantised for only part of the data (corrected in floating point \
+                 from some point on?); its quantum is kept for the quantization term (a \
+                 correction in floating point keeps the rounding the output was given), and the \
+                 model is marked inconsistent",
+                cov.checked,
+                quantum_text(c, cov.quantum)
             );
             notes.push(text.clone());
             out.push(text);
-        } else if c.multiples < 2 && c.off == 0 {
+        } else if cov.multiples < 2 && cov.off == 0 {
             notes.push(format!(
-                "gyro {axis}: every increment is the same multiple of {:.4} arcsec: a lattice by \
-                 chance (a smooth, noise-free output), not a quantum",
-                c.quantum / arcsec
+                "{name}: every increment is the same multiple of {}: a lattice by chance (a \
+                 smooth, noise-free output), not a quantum",
+                quantum_text(c, cov.quantum)
             ));
         }
     }

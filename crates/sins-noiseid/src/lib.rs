@@ -6,7 +6,9 @@
 //! runs, with chi-square intervals from the equivalent degrees of freedom (Howe, Allan and
 //! Barnes); a weighted least-squares fit then gives the terms the twin uses, each with its
 //! 1-sigma: white noise (gyro angle random walk rad/√s, accelerometer velocity random walk
-//! m/s/√s), gyro quantization (rad; read off the increments' lattice when they are quantised),
+//! m/s/√s), gyro quantization (rad; read off the increments' lattice when they are quantised;
+//! an accelerometer's quantum, m/s, likewise, fitted but not part of the twin: with the
+//! remainder carried it bounds the velocity error by one quantum),
 //! first-order Gauss-Markov bias (stationary σ and correlation time) and, reported only, a rate
 //! random walk. No file I/O; SI throughout.
 //!
@@ -19,8 +21,9 @@
 //! ([`accumulate`]), and a fit of a few hundred small least-squares problems.
 //!
 //! Modules: [`allan`] (estimator, degrees of freedom, intervals), [`quant`] (quantization of a
-//! gyro at rest and the lattice detector), [`model`] (each term's Allan variance), `fit` (the
-//! weighted least squares), [`homogeneity`] (do the still stretches agree?), [`identify`] (the entry point), [`result`].
+//! sensor at rest and the lattice detector), [`model`] (each term's Allan variance), `fit` (the
+//! weighted least squares), [`homogeneity`] (do the still stretches agree?), [`turnon`] (a transient from each run's first
+//! sample), [`identify`] (the entry point), [`result`].
 
 #![warn(missing_docs)]
 
@@ -38,6 +41,7 @@ pub mod result;
 mod spectrum;
 pub mod steps;
 pub mod still;
+pub mod turnon;
 
 pub use config::NoiseIdConfig;
 pub use error::NoiseIdError;

@@ -1,4 +1,5 @@
-//! Laser-gyro quantization at rest.
+//! Quantization at rest: a laser gyro's pulse counting, or an accelerometer's velocity pulses
+//! (the same model in m/s, its ramp the specific force along the axis).
 //!
 //! Pulse counting outputs whole quanta `q` and carries the remainder, so the cumulative output
 //! is the cumulative input rounded: the angle error `e_k` is the rounding error of the

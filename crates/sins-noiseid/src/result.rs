@@ -42,6 +42,11 @@ impl Estimate {
         }
     }
 
+    /// Exactly zero (a term an older file does not hold).
+    pub fn zero() -> Self {
+        Self::exact(0.0)
+    }
+
     /// A value known exactly.
     pub fn exact(value: f64) -> Self {
         Self {
@@ -59,11 +64,21 @@ pub struct SensorNoise {
     /// White rate noise density: gyro angle random walk (rad/√s), accelerometer velocity random
     /// walk (m/s/√s).
     pub white_per_sqrt_s: Estimate,
-    /// Output quantum (rad for a gyro; 0 for an accelerometer): from the lattice of the
-    /// increments when they are quantised (exact), else from the `3Q²/τ²` term (`q = √12 Q`).
+    /// Output quantum (rad for a gyro, m/s for an accelerometer): from the lattice of the
+    /// increments when they are quantised (exact), else, for a gyro, from the `3Q²/τ²` term
+    /// (`q = √12 Q`); 0 for an accelerometer off any lattice.
     pub quantum: Estimate,
     /// Whether the quantum was read off the increments' lattice.
     pub quantum_from_lattice: bool,
+    /// The free `3Q²/τ²` Allan term as an equivalent quantum `√12 Q` (rad, m/s): white angle
+    /// or velocity noise such as a vehicle's vibration or a dither in the still stretches. For a
+    /// gyro on a lattice, what the data hold beyond its quantization (the ramp model's offset);
+    /// for an accelerometer, all of it, its quantization included (a pulse-counting one carries
+    /// the remainder and one that rounds each sample does not, so no offset is assumed); 0 for
+    /// a gyro off any lattice, whose free term is its `quantum`. Bounded (it does not
+    /// accumulate), so not part of the twin.
+    #[serde(default = "Estimate::zero")]
+    pub white_phase: Estimate,
     /// Gauss-Markov bias: stationary standard deviation (rad/s, m/s²).
     pub bias_sigma: Estimate,
     /// The same as an Allan bias-instability figure (the peak of its Allan deviation,

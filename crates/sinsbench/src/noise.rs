@@ -66,7 +66,7 @@ fn fig(e: &Estimate, per_unit: f64, digits: usize) -> String {
 /// Rows `(term, unit, formatter)` of the summary tables.
 fn rows(gyro: &SensorNoise, accel: &SensorNoise) -> Vec<(String, String)> {
     let (rrw_g, rrw_a) = (DEG_PER_H_PER_SQRT_H, UG_PER_SQRT_H);
-    vec![
+    let mut r = vec![
         (
             "gyro angle random walk [deg/√h]".into(),
             fig(&gyro.white_per_sqrt_s, DEG_PER_SQRT_H, 6),
@@ -110,7 +110,27 @@ fn rows(gyro: &SensorNoise, accel: &SensorNoise) -> Vec<(String, String)> {
             "accel rate random walk [ug/√h] (not in the twin)".into(),
             fig(&accel.rate_random_walk_per_sqrt_s, rrw_a, 3),
         ),
-    ]
+    ];
+    if accel.quantum_from_lattice {
+        // Read off the lattice; its noise is part of the white velocity noise below.
+        r.push((
+            "accel quantum [mm/s] (lattice of the increments; not in the twin)".into(),
+            fig(&accel.quantum, 1e-3, 4),
+        ));
+    }
+    // White angle or velocity noise beyond the quantum (vibration, dither): bounded, reported.
+    if gyro.quantum_from_lattice {
+        r.push((
+            "gyro white angle noise beyond the quantum [arcsec] (vibration; not in the twin)"
+                .into(),
+            fig(&gyro.white_phase, ARCSEC, 4),
+        ));
+    }
+    r.push((
+        "accel white velocity noise [mm/s] (vibration, quantisation; not in the twin)".into(),
+        fig(&accel.white_phase, 1e-3, 4),
+    ));
+    r
 }
 
 /// One line with the twin's figures (for `diagnose`'s notes).
