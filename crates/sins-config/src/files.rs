@@ -105,6 +105,10 @@ fn unregister(id: u64) {
     live().retain(|(i, _)| *i != id);
 }
 
+/// Attempts at removing one temporary in the signal handler (see
+/// [`remove_temporaries_and_exit`]).
+const REMOVAL_ATTEMPTS: usize = 1000;
+
 fn remove_path(path: &Path) {
     match std::fs::symlink_metadata(path) {
         Ok(m) if m.is_dir() => {
@@ -205,12 +209,16 @@ impl Temporary {
 impl Drop for Temporary {
     fn drop(&mut self) {
         if self.armed {
+            // Removed and unregistered under the registry's lock: the signal handler removes it
+            // first or finds it gone, never races this removal (two `remove_dir_all` at once
+            // can each stop at an entry the other took, and the exit then leaves the rest).
+            let mut registry = live();
             if self.dir {
                 let _ = std::fs::remove_dir_all(&self.path);
             } else {
                 let _ = std::fs::remove_file(&self.path);
             }
-            unregister(self.id);
+            registry.retain(|(i, _)| *i != self.id);
         }
     }
 }
@@ -281,8 +289,17 @@ pub fn replace_dir(staging: Temporary, target: &Path) -> std::io::Result<()> {
 pub fn remove_temporaries_and_exit(code: i32) -> ! {
     let guard = live();
     // Newest first: a temporary file inside a staging directory goes before the directory.
+    // Other threads keep running until the exit: a file one of them creates in a staging
+    // directory while it is being removed makes that removal fail (not empty), so each path is
+    // removed again until it is gone.
     for (_, path) in guard.iter().rev() {
-        remove_path(path);
+        for _ in 0..REMOVAL_ATTEMPTS {
+            remove_path(path);
+            if std::fs::symlink_metadata(path).is_err() {
+                break;
+            }
+            std::thread::yield_now();
+        }
     }
     let note = interrupt_note().take();
     if let (Some(note), Some(notify)) = (note, NOTIFIER.get()) {
