@@ -45,12 +45,14 @@ const IO: &[&str] = &[
 ];
 
 /// Crates of the outer layers with what each must still not reach (arrows point one way:
-/// formats know nothing of outputs; plots know nothing of Rerun or Parquet).
+/// formats know nothing of studies or outputs; studies nothing of datasets or outputs; plots
+/// know nothing of Rerun or Parquet).
 const OUTER: &[(&str, &[&str])] = &[
     (
         "sins-config",
         &[
             "sins-data",
+            "sins-calstudy",
             "sins-plot",
             "sins-viz",
             "sins-report",
@@ -60,7 +62,34 @@ const OUTER: &[(&str, &[&str])] = &[
     ),
     (
         "sins-data",
-        &["sins-plot", "sins-viz", "sins-report", "rerun"],
+        &[
+            "sins-calstudy",
+            "sins-plot",
+            "sins-viz",
+            "sins-report",
+            "rerun",
+        ],
+    ),
+    (
+        "sins-import",
+        &[
+            "sins-calstudy",
+            "sins-plot",
+            "sins-viz",
+            "sins-report",
+            "rerun",
+        ],
+    ),
+    (
+        "sins-calstudy",
+        &[
+            "sins-data",
+            "sins-plot",
+            "sins-viz",
+            "sins-report",
+            "polars",
+            "rerun",
+        ],
     ),
     (
         "sins-plot",
