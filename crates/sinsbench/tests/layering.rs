@@ -188,3 +188,86 @@ fn the_check_sees_a_known_dependency() {
     );
     assert!(banned("polars-parquet", IO) && !banned("serde", IO));
 }
+
+/// The layer table of ARCHITECTURE.md (the text block under "## Layers"), top layer first: each
+/// layer's workspace crates (tokens `sins…`; an indented line continues the layer above).
+fn architecture_layers() -> Vec<(String, Vec<String>)> {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../ARCHITECTURE.md");
+    let text = std::fs::read_to_string(path).expect("ARCHITECTURE.md reads");
+    let section = text.split("## Layers").nth(1).expect("a Layers section");
+    let block = section
+        .split("```text")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .expect("a text block in the Layers section");
+    let mut layers: Vec<(String, Vec<String>)> = Vec::new();
+    for line in block.lines().filter(|l| !l.trim().is_empty()) {
+        let body = line.split('(').next().unwrap_or("");
+        let mut words = body.split_whitespace().peekable();
+        let crates = |w: &mut dyn Iterator<Item = &str>| -> Vec<String> {
+            w.filter(|t| t.starts_with("sins"))
+                .map(str::to_string)
+                .collect()
+        };
+        if line.starts_with("  ") && !layers.is_empty() {
+            let more = crates(&mut words);
+            if let Some(last) = layers.last_mut() {
+                last.1.extend(more);
+            }
+        } else if let Some(name) = words.next() {
+            layers.push((name.to_string(), crates(&mut words)));
+        }
+    }
+    layers
+}
+
+/// The workspace crates a crate depends on directly (normal and build edges).
+fn direct_workspace_deps(krate: &str, members: &BTreeSet<String>) -> BTreeSet<String> {
+    tree(krate)
+        .into_iter()
+        .filter(|(d, n)| *d == 1 && members.contains(n))
+        .map(|(_, n)| n)
+        .collect()
+}
+
+#[test]
+fn the_architecture_table_names_every_crate_and_every_arrow_points_down() {
+    let layers = architecture_layers();
+    let rank: BTreeMap<String, usize> = layers
+        .iter()
+        .enumerate()
+        .flat_map(|(i, (_, cs))| cs.iter().map(move |c| (c.clone(), i)))
+        .collect();
+    let crates_dir = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let members: BTreeSet<String> = std::fs::read_dir(crates_dir)
+        .expect("crates/ lists")
+        .filter_map(|e| {
+            let e = e.ok()?;
+            e.path()
+                .join("Cargo.toml")
+                .exists()
+                .then(|| e.file_name().to_string_lossy().into_owned())
+        })
+        .collect();
+    assert!(
+        members.len() >= 19 && members.contains("sins-nav"),
+        "{members:?}"
+    );
+    let missing: Vec<&String> = members.iter().filter(|m| !rank.contains_key(*m)).collect();
+    assert!(
+        missing.is_empty(),
+        "ARCHITECTURE.md's layer table does not name {missing:?} (layers: {layers:?})"
+    );
+    let mut up = Vec::new();
+    for m in &members {
+        for d in direct_workspace_deps(m, &members) {
+            if rank[&d] < rank[m] {
+                up.push(format!(
+                    "{m} ({}) depends on {d} ({}), a layer above it",
+                    layers[rank[m]].0, layers[rank[&d]].0
+                ));
+            }
+        }
+    }
+    assert!(up.is_empty(), "arrows that point up:\n{}", up.join("\n"));
+}
