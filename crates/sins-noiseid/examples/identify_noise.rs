@@ -7,7 +7,7 @@
 
 use sins_diag::source::SimSource;
 use sins_imu::{ForwardModel, ImuErrorParams, ParamModel};
-use sins_nav::{DEG, Euler, Geodetic, ned_from_body_euler};
+use sins_nav::{DEG, DEG_PER_H, Euler, Geodetic, UG, ned_from_body_euler};
 use sins_noiseid::{NoiseIdConfig, RunStationary, identify_noise};
 use sins_sim::noise::gauss_markov_sigma_from_allan;
 use sins_sim::{
@@ -15,8 +15,8 @@ use sins_sim::{
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let deg_per_h = DEG / 3600.0;
-    let ug = 9.806_65e-6;
+    let deg_per_h = DEG_PER_H;
+    let ug = UG;
     // Tactical grade: 0.05 deg/√h, 1 deg/h bias instability; 50 ug/√Hz, 20 ug.
     let noise = NoiseModel {
         gyro_arw_rad_per_sqrt_s: 0.05 * DEG / 60.0,

@@ -808,7 +808,7 @@ fn model_check(c: &AllanCurve) -> Option<String> {
 /// A quantum in words: gyro in arcsec, accelerometer in mm/s.
 fn quantum_text(channel: usize, q: f64) -> String {
     if channel < 3 {
-        format!("{:.4} arcsec", q / (std::f64::consts::PI / 648_000.0))
+        format!("{:.4} arcsec", q / sins_nav::ARCSEC)
     } else {
         format!("{:.4} mm/s", q * 1e3)
     }

@@ -29,6 +29,7 @@
 use crate::channels::{CHANNEL_NAMES, CHANNELS};
 use crate::homogeneity::FALSE_ALARM;
 use sins_diag::{chi2_isf, chi2_sf};
+use sins_nav::{DEG_PER_H, UG};
 
 /// Length of the means the transient is fitted to (s).
 pub const BLOCK_S: f64 = 10.0;
@@ -216,12 +217,12 @@ fn whiten(cols: [&[f64]; 3], r: f64, var_b: f64, phi: f64) -> Option<[Vec<f64>; 
     Some(out)
 }
 
-/// The finding in words (`per` converts the rate unit to the channel's paper unit, `unit`).
+/// The finding in words, in paper units (deg/h, ug).
 pub(crate) fn text(t: &Transient, run_name: &dyn Fn(usize) -> String) -> String {
     let (per, unit) = if t.channel < 3 {
-        (std::f64::consts::PI / 180.0 / 3600.0, "deg/h")
+        (DEG_PER_H, "deg/h")
     } else {
-        (9.806_65e-6, "ug")
+        (UG, "ug")
     };
     let amps: Vec<String> = t
         .amplitudes
@@ -289,6 +290,7 @@ mod tests {
             ];
             alarms += test(&o, &n).len();
         }
+        eprintln!("{alarms} false alarms in 200 quiet pairs");
         assert!(alarms <= 2, "{alarms} false alarms in 200 quiet pairs");
         // A 1200 s transient of 20 times the bias sigma (about 13 sigma of its amplitude's
         // estimate in each run: a Gauss-Markov bias of 500 s mimics part of it): found, its

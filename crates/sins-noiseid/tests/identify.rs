@@ -533,6 +533,24 @@ fn quantum_exact_and_arw_within_3_sigma(id: &sins_noiseid::IdentifiedNoise, trut
     );
 }
 
+/// Two 3 h paper-noise runs with the same gyro z turn-on transient (`size` deg/h at the first
+/// sample, time constant `tau_s`), identified; the turn-on note must name gyro z.
+fn with_gyro_z_turn_on(tau_s: f64, size_deg_per_h: f64) -> sins_noiseid::IdentifiedNoise {
+    let transient = EffectSpec::BiasEvent {
+        kind: EffectKind::GyroBiasTransient,
+        magnitude_si: Vec3::new(0.0, 0.0, size_deg_per_h * DEG / 3600.0),
+        onset_s: 0.0,
+        time_constant_s: tau_s,
+    };
+    let with = identify_runs(&mut [
+        stationary_run_with(3.0, 11, vec![transient.clone()]),
+        stationary_run_with(3.0, 12, vec![transient]),
+    ]);
+    let note = with.turn_on_note().expect("a turn-on note");
+    assert!(note.contains("gyro_z"), "tau {tau_s}: {note}");
+    with
+}
+
 #[test]
 fn faster_turn_on_transients_are_named_and_left_out_too() {
     // The hour-long chunks of the agreement test also catch transients of 5 and 10 min time
@@ -540,18 +558,7 @@ fn faster_turn_on_transients_are_named_and_left_out_too() {
     // instability 1.5 to 5 times; left out, it comes back within 3 sigma.
     let truth = 0.0005 * DEG / 3600.0;
     for (tau_s, size_deg_per_h) in [(300.0, 1.0), (600.0, 0.2)] {
-        let transient = EffectSpec::BiasEvent {
-            kind: EffectKind::GyroBiasTransient,
-            magnitude_si: Vec3::new(0.0, 0.0, size_deg_per_h * DEG / 3600.0),
-            onset_s: 0.0,
-            time_constant_s: tau_s,
-        };
-        let with = identify_runs(&mut [
-            stationary_run_with(3.0, 11, vec![transient.clone()]),
-            stationary_run_with(3.0, 12, vec![transient]),
-        ]);
-        let note = with.turn_on_note().expect("a turn-on note");
-        assert!(note.contains("gyro_z"), "tau {tau_s}: {note}");
+        let with = with_gyro_z_turn_on(tau_s, size_deg_per_h);
         assert!(
             (3590.0..3610.0).contains(&with.turn_on_left_out_s),
             "tau {tau_s}: {}",
@@ -578,18 +585,7 @@ fn transients_shorter_or_longer_than_the_chunks_are_named_and_left_out() {
         (2400.0, 0.05, 2400.0),
         (5400.0, 0.1, 5400.0),
     ] {
-        let transient = EffectSpec::BiasEvent {
-            kind: EffectKind::GyroBiasTransient,
-            magnitude_si: Vec3::new(0.0, 0.0, size_deg_per_h * DEG / 3600.0),
-            onset_s: 0.0,
-            time_constant_s: tau_s,
-        };
-        let with = identify_runs(&mut [
-            stationary_run_with(3.0, 11, vec![transient.clone()]),
-            stationary_run_with(3.0, 12, vec![transient]),
-        ]);
-        let note = with.turn_on_note().expect("a turn-on note");
-        assert!(note.contains("gyro_z"), "tau {tau_s}: {note}");
+        let with = with_gyro_z_turn_on(tau_s, size_deg_per_h);
         assert!(
             with.turn_on_left_out_s >= min_left_out_s,
             "tau {tau_s}: {}",
