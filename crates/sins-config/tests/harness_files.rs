@@ -26,12 +26,26 @@ min_improvement_percent = 20.0
 fn paper_replica_config_and_gate_load() {
     let c = load_report_config(&harness_dir().join("report_paper.toml")).unwrap();
     assert_eq!(c.name, "paper_replica");
-    assert_eq!(c.parameter_sets.len(), 2);
+    assert_eq!(c.parameter_sets.len(), 3);
     assert!(
         c.parameter_sets
             .iter()
             .all(|s| matches!(s.origin, ParamOrigin::Calibrate(_)))
     );
+    // The headline's 30-state set and its variant are calibrated on the two runs the
+    // calibration experiment declares.
+    let exp = sins_config::load_experiment(&c.calibration.as_ref().unwrap().experiment).unwrap();
+    let cmp = c.comparison.as_ref().unwrap();
+    assert!(cmp.reason.as_ref().is_some_and(|r| r.len() > 20));
+    for key in std::iter::once(&cmp.baseline).chain(&cmp.variant_baselines) {
+        let set = c.parameter_sets.iter().find(|s| &s.key == key).unwrap();
+        let run = set
+            .calibration_run
+            .clone()
+            .or(c.calibration.as_ref().unwrap().run.clone())
+            .unwrap();
+        assert!(exp.scenarios.iter().any(|s| s.name == run), "{key}: {run}");
+    }
     let NavigationSource::Experiment(nav) = &c.navigation else {
         panic!("the replica simulates its navigation runs");
     };
@@ -47,6 +61,34 @@ fn paper_replica_config_and_gate_load() {
     }
     let t = load_thresholds(c.gate.as_ref().unwrap()).unwrap();
     assert_eq!(t.default.max_horizontal_nmi.get("42-state"), Some(&2.65));
+}
+
+#[test]
+fn a_variant_or_a_calibration_run_that_names_nothing_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = std::fs::read_to_string(harness_dir().join("report_paper.toml")).unwrap();
+    for (from, to, key) in [
+        (
+            "variant_baselines = [\"30-state-ramp\"]",
+            "variant_baselines = [\"30-state-cold\"]",
+            "comparison.variant_baselines: '30-state-cold'",
+        ),
+        (
+            "variant_baselines = [\"30-state-ramp\"]",
+            "variant_baselines = [\"42-state\"]",
+            "already the baseline or the compensated set",
+        ),
+        (
+            "calibrate = 42\n",
+            "file = \"p.toml\"\ncalibration_run = \"truth_cal1\"\n",
+            "'calibration_run' applies to a set with 'calibrate = 30|42' only",
+        ),
+    ] {
+        assert!(base.contains(from), "{from}");
+        let p = write(dir.path(), "report.toml", &base.replace(from, to));
+        let msg = load_report_config(&p).unwrap_err().to_string();
+        assert!(msg.contains("report.toml") && msg.contains(key), "{msg}");
+    }
 }
 
 #[test]

@@ -32,6 +32,9 @@ pub struct ParamSetSpec {
     pub label: String,
     /// Its origin.
     pub origin: ParamOrigin,
+    /// For a `Calibrate` set: the run of the `[calibration]` experiment it is calibrated on
+    /// (`None`: the section's run), e.g. a stable-temperature run beside the ramp.
+    pub calibration_run: Option<String>,
 }
 
 /// The simulated calibration run that `Calibrate` sets come from.

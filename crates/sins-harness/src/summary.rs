@@ -34,6 +34,14 @@ pub struct Comparison {
     pub baseline: String,
     /// Key of the set with it.
     pub compensated: String,
+    /// Why the baseline is calibrated as it is (one line; e.g. which calibration condition the
+    /// evidence supports), shown under Table 5.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// Keys of sets shown as variant rows of the baseline column (the other calibration
+    /// condition), each with its own improvement.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub variant_baselines: Vec<String>,
 }
 
 /// Results of one parameter set on one experiment.
@@ -153,6 +161,8 @@ impl Summary {
             comparison: Some(Comparison {
                 baseline: "30-state".into(),
                 compensated: "42-state".into(),
+                reason: None,
+                variant_baselines: Vec::new(),
             }),
             experiments: vec![ExperimentSummary {
                 name: "nav1".into(),

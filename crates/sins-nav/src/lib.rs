@@ -6,6 +6,8 @@
 //!
 //! Frames follow Wang et al. 2021: `n` is north-east-down (NED), `b` is right-forward-up (RFU).
 //! Everything is SI: radians, metres, seconds, m/s, m/s^2.
+//!
+#![doc = include_str!("../README.md")]
 
 pub mod alignment;
 pub mod attitude;

@@ -12,7 +12,7 @@ use crate::quant::ramp_quantization_avar;
 use crate::result::{
     AllanCurve, Estimate, IdentifiedNoise, RunUsage, SensorNoise, StretchReport, instability_of,
 };
-use crate::turnon::{self, ChannelNoise};
+use crate::turnon::{self, ChannelNoise, FittedNoise};
 use sins_diag::chi2_sf;
 use sins_diag::source::SampleSource;
 use sins_imu::{Compensator, ImuErrorParams};
@@ -313,24 +313,21 @@ fn identify_pass(
         }
         notes.push(text);
     }
-    let noise: [ChannelNoise; CHANNELS] = std::array::from_fn(|c| {
-        let f = if c < 3 {
-            &gyro.axes[c]
+    // The turn-on test's null: the channel's own fit, its triad's pooled fit, and what their
+    // uncertainties allow.
+    let nulls: [Vec<ChannelNoise>; CHANNELS] = std::array::from_fn(|c| {
+        let (axis, triad) = if c < 3 {
+            (&gyro.axes[c], &gyro.triad)
         } else {
-            &accel.axes[c - 3]
+            (&accel.axes[c - 3], &accel.triad)
         };
-        let th = f.fit.fit.theta;
-        ChannelNoise {
-            white: th[1].max(0.0).sqrt(),
-            gm_sigma: th[2].max(0.0).sqrt(),
-            gm_correlation_s: f.fit.correlation_s,
-        }
+        turnon::plausible_nulls(&[fitted_noise(axis), fitted_noise(triad)])
     });
     let mut openings = std::mem::take(&mut acc.openings);
     for o in &mut openings {
         o.offset_s -= first_t_s.get(o.run).copied().unwrap_or(0.0) - h_s;
     }
-    for t in turnon::test(&openings, &noise) {
+    for t in turnon::test(&openings, &nulls) {
         let name = |r: usize| runs.get(r).map_or_else(|| "?".into(), |x| x.name.clone());
         let text = turnon::text(&t, &name);
         inconsistent.push(text.clone());
@@ -392,6 +389,21 @@ fn identify_pass(
     };
     id.notes.extend(id.change_notes());
     Ok((id, turn_on_s))
+}
+
+/// A fit's white noise and Gauss-Markov bias with their uncertainty, for the turn-on test.
+fn fitted_noise(f: &Fitted) -> FittedNoise {
+    let (th, sd) = (f.fit.fit.theta, f.fit.fit.sigma);
+    FittedNoise {
+        noise: ChannelNoise {
+            white: th[1].max(0.0).sqrt(),
+            gm_sigma: th[2].max(0.0).sqrt(),
+            gm_correlation_s: f.fit.correlation_s,
+        },
+        gm_var_sigma: sd[2],
+        gm_var_upper95: f.fit.fit.upper95[2],
+        ln_t_sigma: f.fit.ln_correlation_sigma,
+    }
 }
 
 fn stretch_report(s: &StretchStats, run: &RunStationary<'_>, h_s: f64) -> StretchReport {

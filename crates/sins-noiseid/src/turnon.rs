@@ -21,6 +21,17 @@
 //! times the truth, within 3 sigma, where the hour-long chunks alone left 4.6-28 times in five
 //! of those cases.
 //!
+//! The null is composite: the channel's own fit, its triad's pooled fit, and each with its
+//! Gauss-Markov variance at the 2-sigma upper end and its correlation time across its interval
+//! ([`plausible_nulls`]); a transient must beat every one of them (the smallest `Δχ²`), which
+//! keeps the false-alarm rate at most the stated one whichever of them is the truth (Berger and
+//! Boos' p-value over a confidence set, with the set's own 2-sigma miss left out). Measured: a
+//! 15 h paper-noise navigation run (seed 101) whose gyro x fit locked onto a 26 s component
+//! and halved the white noise gave a false "transient" (τ 2400 s, `Δχ²` 24.9) against its own
+//! fit alone and none against the composite null (`Δχ²` 1.7); 12 such runs (seeds 101-403)
+//! now give no alarm. A bias the fit left at zero is put back at its 95 % bound: 53 of 100
+//! quiet 5 h runs raised an alarm against white noise alone, none against the composite null.
+//!
 //! The noise model comes from a fit that has absorbed part of any transient, which costs power
 //! but not false alarms; leaving the transient out and fitting again ([`crate::identify`])
 //! tests again with the cleaner model. The time left out is where the fitted transient falls
@@ -79,21 +90,31 @@ pub(crate) struct Transient {
     pub leave_out_s: f64,
 }
 
-/// Tests every channel; returns the significant transients.
-pub(crate) fn test(openings: &[Opening], noise: &[ChannelNoise; CHANNELS]) -> Vec<Transient> {
+/// Tests every channel against every null model in `nulls[c]` (the fitted model first, then
+/// the ones its uncertainty allows, see [`plausible_nulls`]); a transient counts only where it
+/// beats all of them (its statistic is the smallest), so a bias whose slow wander the fit
+/// understated does not raise an alarm. Returns the significant transients.
+pub(crate) fn test(openings: &[Opening], nulls: &[Vec<ChannelNoise>; CHANNELS]) -> Vec<Transient> {
     let alpha = FALSE_ALARM / (CHANNELS * TIME_CONSTANTS_S.len()) as f64;
     let mut out = Vec::new();
-    for (c, n) in noise.iter().enumerate() {
+    for (c, models) in nulls.iter().enumerate() {
+        let Some(fitted) = models.first() else {
+            continue;
+        };
         let mut best: Option<Transient> = None;
         for &tau in &TIME_CONSTANTS_S {
-            let fits: Vec<(usize, f64, f64, f64)> = openings
+            let Some(fits) = models
                 .iter()
-                .filter_map(|o| fit_run(o, c, n, tau).map(|(a, s, d)| (o.run, a, s, d)))
-                .collect();
-            if fits.is_empty() {
+                .map(|n| runs_fit(openings, c, n, tau))
+                .reduce(|a, b| match (&a, &b) {
+                    (Some(x), Some(y)) if total(y) < total(x) => b,
+                    _ => a,
+                })
+                .flatten()
+            else {
                 continue;
-            }
-            let stat: f64 = fits.iter().map(|f| f.3).sum();
+            };
+            let stat = total(&fits);
             let dof = fits.len();
             if stat <= chi2_isf(alpha, dof as f64) {
                 continue;
@@ -104,7 +125,7 @@ pub(crate) fn test(openings: &[Opening], noise: &[ChannelNoise; CHANNELS]) -> Ve
             }
             // Until the largest fitted transient falls to the noise of a τ-long mean (at
             // least one τ past the start of the stretch it was fitted to).
-            let floor = mean_sd(n, tau).max(f64::MIN_POSITIVE);
+            let floor = mean_sd(fitted, tau).max(f64::MIN_POSITIVE);
             let leave_out_s = openings
                 .iter()
                 .filter_map(|o| {
@@ -123,6 +144,75 @@ pub(crate) fn test(openings: &[Opening], noise: &[ChannelNoise; CHANNELS]) -> Ve
             });
         }
         out.extend(best);
+    }
+    out
+}
+
+/// Per run `(run, A, σ_A, Δχ²)` of channel `c` under one null model; `None` when no run's
+/// stretch is long enough for `tau`.
+fn runs_fit(
+    openings: &[Opening],
+    c: usize,
+    n: &ChannelNoise,
+    tau: f64,
+) -> Option<Vec<(usize, f64, f64, f64)>> {
+    let fits: Vec<_> = openings
+        .iter()
+        .filter_map(|o| fit_run(o, c, n, tau).map(|(a, s, d)| (o.run, a, s, d)))
+        .collect();
+    (!fits.is_empty()).then_some(fits)
+}
+
+fn total(fits: &[(usize, f64, f64, f64)]) -> f64 {
+    fits.iter().map(|f| f.3).sum()
+}
+
+/// A fitted noise model of one channel with the uncertainty the fit gives it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FittedNoise {
+    /// The fitted values.
+    pub noise: ChannelNoise,
+    /// 1-sigma of the Gauss-Markov variance σ² ((rad/s)², (m/s²)²).
+    pub gm_var_sigma: f64,
+    /// One-sided 95 % upper bound of σ² when the fit left it at zero.
+    pub gm_var_upper95: Option<f64>,
+    /// 1-sigma of `ln T` (infinite when `T` was not identified).
+    pub ln_t_sigma: f64,
+}
+
+/// Null models the fits allow for one channel (the channel's own fit first, then e.g. its
+/// triad's pooled fit): each fitted model, then its Gauss-Markov variance at the 2-sigma upper
+/// end (the one-sided 95 % bound when the fit left it at zero) with the correlation time at its
+/// value and at `e^(±2σ)` of it in `ln T` (at its value and 4 times it when `ln T` has no
+/// sigma; at 600, 2400 and 9600 s, the span of [`TIME_CONSTANTS_S`] a slow wander can mimic,
+/// when there is no Gauss-Markov term). A profile over `T` can lock onto a fast component and
+/// leave a slow bias out of the model; the alternatives put it back.
+pub(crate) fn plausible_nulls(fits: &[FittedNoise]) -> Vec<ChannelNoise> {
+    let mut out: Vec<ChannelNoise> = fits.iter().map(|f| f.noise).collect();
+    for f in fits {
+        let var = f.noise.gm_sigma * f.noise.gm_sigma;
+        let var_hi = if var > 0.0 {
+            var + 2.0 * f.gm_var_sigma.max(0.0)
+        } else {
+            f.gm_var_upper95.unwrap_or(0.0).max(0.0)
+        };
+        if !(var_hi > 0.0) || !var_hi.is_finite() {
+            continue;
+        }
+        let t = f.noise.gm_correlation_s;
+        let times: Vec<f64> = if var > 0.0 && t.is_finite() && f.ln_t_sigma.is_finite() {
+            let k = (2.0 * f.ln_t_sigma).exp();
+            vec![t, t * k, t / k]
+        } else if var > 0.0 && t.is_finite() {
+            vec![t, 4.0 * t]
+        } else {
+            vec![600.0, 2400.0, 9600.0]
+        };
+        out.extend(times.into_iter().map(|gm_correlation_s| ChannelNoise {
+            white: f.noise.white,
+            gm_sigma: var_hi.sqrt(),
+            gm_correlation_s,
+        }));
     }
     out
 }
@@ -288,7 +378,7 @@ mod tests {
                 opening(2 * seed, 10_800, 0.0, 1.0, &n[5]),
                 opening(2 * seed + 1, 10_800, 0.0, 1.0, &n[5]),
             ];
-            alarms += test(&o, &n).len();
+            alarms += test(&o, &n.map(|m| vec![m])).len();
         }
         eprintln!("{alarms} false alarms in 200 quiet pairs");
         assert!(alarms <= 2, "{alarms} false alarms in 200 quiet pairs");
@@ -299,12 +389,60 @@ mod tests {
             opening(1001, 10_800, 1.0, 1200.0, &n[5]),
             opening(1002, 10_800, 1.0, 1200.0, &n[5]),
         ];
-        let found = test(&o, &n);
+        let found = test(&o, &n.map(|m| vec![m]));
         let t = found.iter().find(|t| t.channel == 5).expect("found");
         assert!((600.0..=2400.0).contains(&t.time_constant_s), "{t:?}");
         for &(_, a, s) in &t.amplitudes {
             assert!((a - 1.0).abs() < 3.0 * s, "{t:?}");
         }
         assert!(t.leave_out_s >= 1200.0, "{t:?}");
+    }
+
+    #[test]
+    fn a_slow_bias_the_fit_left_out_raises_no_alarm_against_the_plausible_nulls() {
+        // The truth: white noise and a slow Gauss-Markov bias (3600 s, 0.1 white densities:
+        // its slow power is 72 times the white one's). The fit left the bias at zero with a
+        // 95 % upper bound of 1.5 times the truth's variance, as a profile over the correlation
+        // time can when the stretch is only a few correlation times long. Against white noise
+        // alone the slow wander of a 5 h stretch reads as a transient; against the models the
+        // bound allows it must stay within the 1e-3 family-wise rate.
+        let truth = ChannelNoise {
+            white: 1.0,
+            gm_sigma: 0.1,
+            gm_correlation_s: 3600.0,
+        };
+        let fit = FittedNoise {
+            noise: ChannelNoise {
+                white: 1.0,
+                gm_sigma: 0.0,
+                gm_correlation_s: f64::INFINITY,
+            },
+            gm_var_sigma: 0.0,
+            gm_var_upper95: Some(1.5 * 0.1 * 0.1),
+            ln_t_sigma: f64::INFINITY,
+        };
+        let nulls: [Vec<ChannelNoise>; CHANNELS] = std::array::from_fn(|_| plausible_nulls(&[fit]));
+        let single: [Vec<ChannelNoise>; CHANNELS] = std::array::from_fn(|_| vec![fit.noise]);
+        let (mut alarms, mut alarms_single) = (0, 0);
+        for seed in 0..100 {
+            let o = [opening(5000 + seed, 18_000, 0.0, 1.0, &truth)];
+            alarms += test(&o, &nulls).len();
+            alarms_single += test(&o, &single).len();
+        }
+        eprintln!(
+            "100 quiet 5 h runs: {alarms} alarms against the plausible nulls, {alarms_single} \
+             against the fit alone"
+        );
+        assert!(alarms <= 1, "{alarms} false alarms in 100 quiet runs");
+        assert!(alarms_single > 10, "the fit alone: {alarms_single}");
+        // A transient of 4 white-noise densities over 600 s (about 9 sigma of its amplitude
+        // against white noise alone) is still found against them.
+        let o = [
+            opening(7001, 18_000, 4.0, 600.0, &truth),
+            opening(7002, 18_000, 4.0, 600.0, &truth),
+        ];
+        let found = test(&o, &nulls);
+        let t = found.iter().find(|t| t.channel == 5).expect("found");
+        assert!((300.0..=1200.0).contains(&t.time_constant_s), "{t:?}");
     }
 }

@@ -15,6 +15,7 @@ mod markdown;
 mod names;
 mod output;
 mod plots;
+mod prediction;
 mod progress;
 mod rrd;
 mod run;
@@ -30,6 +31,7 @@ pub use markdown::render_markdown;
 pub use output::{
     OUTPUT_MARKER, ReportFiles, check_output_dir, write_bytes, write_dir_atomically, write_report,
 };
+pub use prediction::prediction_for_report;
 pub use progress::Progress;
 pub use run::{ReportRun, ResolvedSet, run_report};
 pub use simulate::{

@@ -100,22 +100,41 @@ fn table5(md: &mut String, run: &ReportRun) {
         "paper: without (nmi)",
         "paper: improvement",
     ]);
-    for e in &s.experiments {
-        let with = e.results.get(&c.compensated).map(|r| r.max_horizontal_nmi);
-        let without = e.results.get(&c.baseline).map(|r| r.max_horizontal_nmi);
-        let p = e.paper;
-        t.row([
-            e.name.clone(),
-            f(with, 3),
-            f(without, 3),
-            format!("{} %", f(e.improvement_percent, 1)),
-            f(p.map(|p| p.with_compensation_nmi), 2),
-            f(p.map(|p| p.without_compensation_nmi), 2),
-            format!("{} %", f(p.map(|p| p.improvement_percent), 1)),
-        ]);
+    let nmi = |e: &ExperimentSummary, k: &str| e.results.get(k).map(|r| r.max_horizontal_nmi);
+    let rows = std::iter::once(None).chain(c.variant_baselines.iter().map(Some));
+    for variant in rows {
+        for e in &s.experiments {
+            let with = nmi(e, &c.compensated);
+            let (name, without, improvement) = match variant {
+                None => (e.name.clone(), nmi(e, &c.baseline), e.improvement_percent),
+                Some(v) => {
+                    let without = nmi(e, v);
+                    let imp = with.zip(without).map(|(w, o)| 100.0 * (o - w) / o);
+                    (format!("{} (variant: `{v}`)", e.name), without, imp)
+                }
+            };
+            let p = e.paper;
+            t.row([
+                name,
+                f(with, 3),
+                f(without, 3),
+                format!("{} %", f(improvement, 1)),
+                f(p.map(|p| p.with_compensation_nmi), 2),
+                f(p.map(|p| p.without_compensation_nmi), 2),
+                format!("{} %", f(p.map(|p| p.improvement_percent), 1)),
+            ]);
+        }
     }
     md.push_str(&t.render());
     md.push('\n');
+    if let Some(r) = &c.reason {
+        let _ = writeln!(md, "Why \"without\" is `{}`: {r}\n", c.baseline);
+    }
+    for v in &c.variant_baselines {
+        if let Some(set) = run.sets.iter().find(|x| &x.key == v) {
+            let _ = writeln!(md, "Variant `{v}`: {} ({}).\n", set.label, set.source);
+        }
+    }
 }
 
 fn keys(run: &ReportRun) -> Vec<&str> {

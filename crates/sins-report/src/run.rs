@@ -163,6 +163,27 @@ pub fn run_report(
     })
 }
 
+/// The run `name` of the calibration experiment (its first run when `None`).
+fn calibration_scenario<'a>(
+    config: &ReportConfig,
+    scenarios: &'a [sins_sim::Scenario],
+    cal: &sins_harness::config::CalibrationSource,
+    name: Option<&str>,
+) -> Result<&'a sins_sim::Scenario, ReportError> {
+    match name {
+        Some(r) => scenarios.iter().find(|s| s.name == r).ok_or_else(|| {
+            ReportError::Mismatch(format!(
+                "{}: calibration run '{r}' is not a run of {}",
+                config.source_path.display(),
+                cal.experiment.display()
+            ))
+        }),
+        None => scenarios.first().ok_or_else(|| {
+            ReportError::Mismatch(format!("{}: no [[run]]", cal.experiment.display()))
+        }),
+    }
+}
+
 /// Draw a simulated run's noise with `noise_seed` ([`sins_harness::config::reseed`]).
 fn apply_noise_seed(sc: &mut sins_sim::Scenario, noise_seed: Option<u64>) {
     if let Some(n) = noise_seed {
@@ -170,55 +191,60 @@ fn apply_noise_seed(sc: &mut sins_sim::Scenario, noise_seed: Option<u64>) {
     }
 }
 
-/// Load the file sets and calibrate the others (one simulation feeds every filter).
+/// Load the file sets and calibrate the others (one simulation per calibration run feeds
+/// every filter calibrated on it).
 fn resolve_sets(
     config: &ReportConfig,
     progress: &mut dyn Progress,
 ) -> Result<Vec<ResolvedSet>, ReportError> {
-    let models: Vec<ParamModel> = config
+    // Per calibrated set, in order: its run (None: the section's) and its filter.
+    let wanted: Vec<(Option<&str>, ParamModel)> = config
         .parameter_sets
         .iter()
         .filter_map(|s| match s.origin {
-            ParamOrigin::Calibrate(m) => Some(m),
+            ParamOrigin::Calibrate(m) => Some((s.calibration_run.as_deref(), m)),
             ParamOrigin::File(_) => None,
         })
         .collect();
     let mut calibrated = Vec::new();
-    let mut cal_source = String::new();
-    if let (false, Some(cal)) = (models.is_empty(), &config.calibration) {
+    if let (false, Some(cal)) = (wanted.is_empty(), &config.calibration) {
+        calibrated = wanted.iter().map(|_| None).collect();
         let mut exp = load_experiment(&cal.experiment)?;
         for sc in &mut exp.scenarios {
             apply_noise_seed(sc, config.noise_seed);
         }
-        let scenario = match &cal.run {
-            Some(r) => exp.scenarios.iter().find(|s| &s.name == r).ok_or_else(|| {
-                ReportError::Mismatch(format!(
-                    "{}: calibration.run = '{r}' is not a run of {}",
-                    config.source_path.display(),
-                    cal.experiment.display()
-                ))
-            })?,
-            None => exp.scenarios.first().ok_or_else(|| {
-                ReportError::Mismatch(format!("{}: no [[run]]", cal.experiment.display()))
-            })?,
-        };
-        progress.begin(
-            &format!("calibrate {} ({} filters)", scenario.name, models.len()),
-            scenario_samples(scenario)?,
-        );
-        calibrated = simulate_and_calibrate(
-            scenario,
-            &models,
-            cal.reference_temperature_degc,
-            &mut |n| progress.advance(n),
-        )?;
-        progress.end();
-        cal_source = format!(
-            "calibrated by this report on the simulated run '{}' of {} ({:.1} h)",
-            scenario.name,
-            cal.experiment.display(),
-            sins_config::motion_duration_s(&scenario.motion) / 3600.0
-        );
+        let mut runs: Vec<Option<&str>> = Vec::new();
+        for (r, _) in &wanted {
+            if !runs.contains(r) {
+                runs.push(*r);
+            }
+        }
+        for run in runs {
+            let name = run.or(cal.run.as_deref());
+            let scenario = calibration_scenario(config, &exp.scenarios, cal, name)?;
+            let slots: Vec<usize> = (0..wanted.len()).filter(|&i| wanted[i].0 == run).collect();
+            let models: Vec<ParamModel> = slots.iter().map(|&i| wanted[i].1).collect();
+            progress.begin(
+                &format!("calibrate {} ({} filters)", scenario.name, models.len()),
+                scenario_samples(scenario)?,
+            );
+            let results = simulate_and_calibrate(
+                scenario,
+                &models,
+                cal.reference_temperature_degc,
+                &mut |n| progress.advance(n),
+            )?;
+            progress.end();
+            let source = format!(
+                "calibrated by this report on the simulated run '{}' of {} ({:.1} h)",
+                scenario.name,
+                cal.experiment.display(),
+                sins_config::motion_duration_s(&scenario.motion) / 3600.0
+            );
+            for (slot, r) in slots.into_iter().zip(results) {
+                calibrated[slot] = Some((r, source.clone()));
+            }
+        }
     }
     let mut cal_iter = calibrated.into_iter();
     let mut out = Vec::new();
@@ -236,7 +262,7 @@ fn resolve_sets(
                 }
             }
             ParamOrigin::Calibrate(m) => {
-                let r = cal_iter.next().ok_or_else(|| {
+                let (r, cal_source) = cal_iter.next().flatten().ok_or_else(|| {
                     ReportError::Mismatch("internal: a calibration result is missing".into())
                 })?;
                 ResolvedSet {

@@ -199,6 +199,9 @@ pub struct AssumptionInfo {
 pub struct UqSummary {
     /// [`UQ_SCHEMA`].
     pub schema: u32,
+    /// The program and version that made it (e.g. "sinsbench 0.1.0"; empty in older files).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub generated_by: String,
     /// Master seed.
     pub seed: u64,
     /// Main Monte Carlo samples.
@@ -309,6 +312,7 @@ pub fn summarize(
     let gap = gap_diagnosis(set, paper, &ids, &pick);
     Ok(UqSummary {
         schema: UQ_SCHEMA,
+        generated_by: format!("sins-uq {}", env!("CARGO_PKG_VERSION")),
         seed: set.seed,
         samples: main.len(),
         pick_freeze_samples: rows.len(),

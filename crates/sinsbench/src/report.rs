@@ -38,7 +38,15 @@ pub fn produce(args: &Args, quiet: bool) -> Result<PathBuf> {
     let uq_dir = args.uq.clone().or_else(|| config.uq.clone());
     let uq = uq_dir.as_deref().map(load_uq_summary).transpose()?;
     let mut run = sins_report::run_report(&config, &mut bars)?;
-    run.appendix = uq.as_ref().map(sins_report::uq_table_for_report);
+    if let (Some(u), Some(dir)) = (&uq, &uq_dir) {
+        let s = &run.summary;
+        let point = |cell: &str| point_of(s, cell);
+        run.appendix = Some(sins_report::prediction_for_report(
+            u,
+            &study_source(dir),
+            &point,
+        ));
+    }
     let files = sins_report::write_report(&args.reports_dir, &run)?;
     print_table(&run.summary)?;
     say!(
@@ -74,6 +82,46 @@ fn print_table(s: &sins_harness::summary::Summary) -> Result<()> {
         say!("{}: {}{imp}", e.name, cells.join(", "))?;
     }
     Ok(())
+}
+
+/// This report's figure of a Table 5 cell label ("exp1 without", "exp2 with", "exp3
+/// improvement"): the n-th experiment's baseline, compensated set or improvement.
+fn point_of(s: &sins_harness::summary::Summary, cell: &str) -> Option<f64> {
+    let id = sins_uq::cell::CellId::parse(cell)?;
+    let e = s.experiments.get(id.experiment - 1)?;
+    let c = s.comparison.as_ref()?;
+    let nmi = |k: &str| e.results.get(k).map(|r| r.max_horizontal_nmi);
+    match id.kind {
+        sins_uq::cell::CellKind::Without => nmi(&c.baseline),
+        sins_uq::cell::CellKind::With => nmi(&c.compensated),
+        sins_uq::cell::CellKind::Improvement => e.improvement_percent,
+    }
+}
+
+/// Where the study is (relative to the working directory when inside it), its manifest's
+/// digest and the command that makes it again.
+fn study_source(dir: &std::path::Path) -> String {
+    let shown = std::fs::canonicalize(dir)
+        .ok()
+        .and_then(|d| {
+            let cwd = std::env::current_dir().ok()?;
+            d.strip_prefix(&cwd).ok().map(std::path::Path::to_path_buf)
+        })
+        .unwrap_or_else(|| dir.to_path_buf());
+    let digest = std::fs::read_to_string(dir.join("manifest.json"))
+        .ok()
+        .and_then(|m| serde_json::from_str::<serde_json::Value>(&m).ok())
+        .and_then(|v| {
+            v["sha256"]
+                .as_str()
+                .map(|h| h.chars().take(12).collect::<String>())
+        })
+        .map_or(String::new(), |h| format!(" (manifest sha256 {h}...)"));
+    format!(
+        "`{}/summary.json`{digest}; made again, bit for bit, by `sinsbench replica-uq --out {}`",
+        shown.display(),
+        shown.display()
+    )
 }
 
 /// The summary of a `replica-uq` directory.

@@ -62,6 +62,19 @@ fn replica_report_then_gate() {
         md.contains("| nav1 |") && md.contains("37.6 %"),
         "Table 5 layout with the paper's column"
     );
+    // The other calibration condition as variant rows, the headline's reason, and Table 5 as a
+    // prediction from the shipped study (experiments/replica/study), per calibration condition.
+    assert!(md.contains("| nav1 (variant: `30-state-ramp`) |"), "{md}");
+    assert!(md.contains("Why \"without\" is `30-state`: "), "{md}");
+    assert!(md.contains("## Table 5 as a prediction"), "{md}");
+    assert!(md.contains("| exp1 without |") && md.contains("stable: ") && md.contains("ramp: "));
+    assert!(md.contains("replica/study/summary.json"), "{md}");
+    for e in exps {
+        let ramp = e["results"]["30-state-ramp"]["max_horizontal_nmi"]
+            .as_f64()
+            .unwrap();
+        assert!(ramp.is_finite() && ramp > 0.0);
+    }
 
     let summary_path = out.join("summary.json");
     let gate = experiments().join("harness/gate_paper.toml");

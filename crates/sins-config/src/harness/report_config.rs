@@ -50,6 +50,7 @@ struct ParamSetFile {
     label: Option<String>,
     calibrate: Option<u32>,
     file: Option<String>,
+    calibration_run: Option<String>,
 }
 
 /// `[navigation]`.
@@ -76,6 +77,9 @@ struct ComparisonFile {
     baseline: String,
     compensated: String,
     paper_table5: Option<String>,
+    reason: Option<String>,
+    #[serde(default)]
+    variant_baselines: Vec<String>,
 }
 
 /// `[replay]`.
@@ -157,10 +161,16 @@ fn parameter_sets(f: &File, dir: &Path) -> Result<Vec<ParamSetSpec>, String> {
                 "{at}: 'calibrate' needs a [calibration] section naming the calibration experiment"
             ));
         }
+        if s.calibration_run.is_some() && !matches!(origin, ParamOrigin::Calibrate(_)) {
+            return Err(format!(
+                "{at}: 'calibration_run' applies to a set with 'calibrate = 30|42' only"
+            ));
+        }
         sets.push(ParamSetSpec {
             key: s.key.clone(),
             label: s.label.clone().unwrap_or_else(|| s.key.clone()),
             origin,
+            calibration_run: s.calibration_run.clone(),
         });
     }
     if sets.is_empty() {
@@ -213,16 +223,29 @@ fn comparison(
     let Some(c) = c else {
         return Ok(None);
     };
-    for (k, v) in [("baseline", &c.baseline), ("compensated", &c.compensated)] {
+    let named = [("baseline", &c.baseline), ("compensated", &c.compensated)];
+    let variants = c.variant_baselines.iter().map(|v| ("variant_baselines", v));
+    for (k, v) in named.into_iter().chain(variants) {
         if !sets.iter().any(|s| &s.key == v) {
             return Err(format!(
-                "comparison.{k} = '{v}' is not the key of any [[parameter_set]]"
+                "comparison.{k}: '{v}' is not the key of any [[parameter_set]]"
             ));
         }
+    }
+    if let Some(v) = c
+        .variant_baselines
+        .iter()
+        .find(|v| **v == c.baseline || **v == c.compensated)
+    {
+        return Err(format!(
+            "comparison.variant_baselines: '{v}' is already the baseline or the compensated set"
+        ));
     }
     Ok(Some(Comparison {
         baseline: c.baseline.clone(),
         compensated: c.compensated.clone(),
+        reason: c.reason.clone(),
+        variant_baselines: c.variant_baselines.clone(),
     }))
 }
 
