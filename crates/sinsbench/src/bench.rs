@@ -127,7 +127,7 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
 
     let m = child(&["report", "--reports-dir", &p(&args.dir.join("reports"))])?;
     say!(
-        "report (default replica: calibration simulated + 30- and 42-state filters, 3 x 15 h simulated + replayed twice, plots, .rrd): {:.1} s wall, peak RSS {:.0} MB",
+        "report (default replica: two 4.2 h calibration runs simulated (ramp, stable 20 degC) + 42-state and two 30-state filters, 3 x 15 h simulated + replayed under the 3 sets, Table 5 as a prediction from the shipped study, plots, .rrd): {:.1} s wall, peak RSS {:.0} MB",
         m.wall_s,
         m.peak_rss_mb
     )?;
