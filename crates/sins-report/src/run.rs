@@ -213,16 +213,17 @@ fn resolve_sets(
         for sc in &mut exp.scenarios {
             apply_noise_seed(sc, config.noise_seed);
         }
+        // The run each set names, else the section's (None: the experiment's first).
+        let run_of = |i: usize| wanted[i].0.or(cal.run.as_deref());
         let mut runs: Vec<Option<&str>> = Vec::new();
-        for (r, _) in &wanted {
-            if !runs.contains(r) {
-                runs.push(*r);
+        for i in 0..wanted.len() {
+            if !runs.contains(&run_of(i)) {
+                runs.push(run_of(i));
             }
         }
-        for run in runs {
-            let name = run.or(cal.run.as_deref());
+        for name in runs {
             let scenario = calibration_scenario(config, &exp.scenarios, cal, name)?;
-            let slots: Vec<usize> = (0..wanted.len()).filter(|&i| wanted[i].0 == run).collect();
+            let slots: Vec<usize> = (0..wanted.len()).filter(|&i| run_of(i) == name).collect();
             let models: Vec<ParamModel> = slots.iter().map(|&i| wanted[i].1).collect();
             progress.begin(
                 &format!("calibrate {} ({} filters)", scenario.name, models.len()),

@@ -226,6 +226,33 @@ fn malformed_config_and_params_name_the_key() {
         err.contains("p.toml") && err.contains("TB_w_ug_per_degc"),
         "{err}"
     );
+
+    // A set calibrated on a run the calibration experiment does not have: refused before
+    // anything is simulated, naming the configuration, the run and the experiment.
+    std::fs::write(
+        &config,
+        format!(
+            "schema = 1\nname = \"x\"\n[calibration]\nexperiment = \"{}\"\n[[parameter_set]]\nkey = \"a\"\ncalibrate = 30\ncalibration_run = \"truth_cal_cold\"\n[navigation]\nexperiment = \"{}\"\n",
+            experiments().join("paper_truth_calibration.toml").display(),
+            experiments().join("paper_navigation.toml").display()
+        ),
+    )
+    .unwrap();
+    let o = run(&[
+        "report",
+        "--config",
+        &s(&config),
+        "--reports-dir",
+        &s(dir.path()),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("c.toml")
+            && err.contains("calibration run 'truth_cal_cold' is not a run of")
+            && err.contains("paper_truth_calibration.toml"),
+        "{err}"
+    );
 }
 
 /// A report on the user's own files: a dataset and two parameter files (the truth and an ideal
