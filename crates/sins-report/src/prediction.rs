@@ -300,48 +300,32 @@ mod tests {
 
     #[test]
     fn the_improvement_is_reproduced_only_by_a_level_that_brackets_the_paper_closely() {
-        let close = [
-            cell(
-                "exp1 improvement",
-                37.6,
-                vec![
-                    level("ramp", 97.0, 85.0, 99.0),
-                    level("stable", 30.0, -10.0, 50.0),
-                ],
-            ),
-            cell(
-                "exp2 improvement",
-                28.4,
-                vec![
-                    level("ramp", 96.0, 88.0, 99.0),
-                    level("stable", 20.0, -20.0, 45.0),
-                ],
-            ),
-        ];
-        let mut o = String::new();
-        improvement_words(&mut o, &close.iter().collect::<Vec<_>>());
+        // Two experiments (paper 37.6 and 28.4 %), the ramp level far above both; the stable
+        // level's (median, 5 %, 95 %) per experiment.
+        let words = |stable: [(f64, f64, f64); 2]| {
+            let cells = [(37.6, (97.0, 85.0, 99.0)), (28.4, (96.0, 88.0, 99.0))]
+                .iter()
+                .zip(stable)
+                .enumerate()
+                .map(|(k, ((paper, ramp), st))| {
+                    cell(
+                        &format!("exp{} improvement", k + 1),
+                        *paper,
+                        vec![
+                            level("ramp", ramp.0, ramp.1, ramp.2),
+                            level("stable", st.0, st.1, st.2),
+                        ],
+                    )
+                })
+                .collect::<Vec<_>>();
+            let mut o = String::new();
+            improvement_words(&mut o, &cells.iter().collect::<Vec<_>>());
+            o
+        };
+        let o = words([(30.0, -10.0, 50.0), (20.0, -20.0, 45.0)]);
         assert!(o.contains("reproduced by stable**"), "{o}");
         // The same intervals with the stable medians 25-43 points below the paper's.
-        let far = [
-            cell(
-                "exp1 improvement",
-                37.6,
-                vec![
-                    level("ramp", 97.0, 85.0, 99.0),
-                    level("stable", -5.0, -60.0, 45.0),
-                ],
-            ),
-            cell(
-                "exp2 improvement",
-                28.4,
-                vec![
-                    level("ramp", 96.0, 88.0, 99.0),
-                    level("stable", 3.0, -70.0, 44.0),
-                ],
-            ),
-        ];
-        let mut o = String::new();
-        improvement_words(&mut o, &far.iter().collect::<Vec<_>>());
+        let o = words([(-5.0, -60.0, 45.0), (3.0, -70.0, 44.0)]);
         assert!(o.contains("The improvement: not reproduced**"), "{o}");
         assert!(o.contains("stable: medians -5 / 3 %, the paper's inside the 5-95 % interval in 2 of 2, up to 43 points off"), "{o}");
     }

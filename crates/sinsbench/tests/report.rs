@@ -180,6 +180,15 @@ fn bad_dataset_leaves_the_existing_report_untouched() {
 }
 
 /// Malformed report configuration and parameter files name the file and the key.
+/// `report --config CONFIG` into `dir`: its exit code and standard error.
+fn refused(config: &std::path::Path, dir: &std::path::Path) -> (Option<i32>, String) {
+    let o = run(&["report", "--config", &s(config), "--reports-dir", &s(dir)]);
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
 #[test]
 fn malformed_config_and_params_name_the_key() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -189,14 +198,7 @@ fn malformed_config_and_params_name_the_key() {
         "schema = 1\nname = \"x\"\n[[parameter_set]]\nkey = \"a\"\ncalibrate = 42\n[navigation]\nexperiment = \"n.toml\"\n",
     )
     .unwrap();
-    let o = run(&[
-        "report",
-        "--config",
-        &s(&config),
-        "--reports-dir",
-        &s(dir.path()),
-    ]);
-    let err = String::from_utf8_lossy(&o.stderr);
+    let (_, err) = refused(&config, dir.path());
     assert!(
         err.contains("c.toml") && err.contains("[calibration]"),
         "{err}"
@@ -213,15 +215,8 @@ fn malformed_config_and_params_name_the_key() {
         ),
     )
     .unwrap();
-    let o = run(&[
-        "report",
-        "--config",
-        &s(&config),
-        "--reports-dir",
-        &s(dir.path()),
-    ]);
-    assert_eq!(o.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&o.stderr);
+    let (code, err) = refused(&config, dir.path());
+    assert_eq!(code, Some(2));
     assert!(
         err.contains("p.toml") && err.contains("TB_w_ug_per_degc"),
         "{err}"
@@ -238,15 +233,8 @@ fn malformed_config_and_params_name_the_key() {
         ),
     )
     .unwrap();
-    let o = run(&[
-        "report",
-        "--config",
-        &s(&config),
-        "--reports-dir",
-        &s(dir.path()),
-    ]);
-    assert_eq!(o.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&o.stderr);
+    let (code, err) = refused(&config, dir.path());
+    assert_eq!(code, Some(2));
     assert!(
         err.contains("c.toml")
             && err.contains("calibration run 'truth_cal_cold' is not a run of")
