@@ -18,7 +18,6 @@ mod markdown;
 mod markdown_ls;
 pub mod montecarlo;
 pub mod noise;
-mod parallel;
 pub mod reference;
 pub mod run;
 pub mod stats;

@@ -5,7 +5,6 @@
 use crate::baseline::{LsStudy, stable_chamber_degc};
 use crate::error::StudyError;
 use crate::montecarlo::{SeedOutcome, Table1Study};
-use crate::parallel::map_indexed;
 use crate::reference::{TABLE3_FILE, load_table3};
 use crate::run::{CalibrationRun, calibrate_scenario, config_for_scenario, truncate_motion};
 use crate::table1mc::Table1MonteCarlo;
@@ -13,6 +12,7 @@ use crate::table3::Table3Study;
 use crate::thirty::ThirtyStateStudy;
 use serde::Serialize;
 use sins_config::{load_experiment, motion_duration_s};
+use sins_harness::parallel::map_indexed;
 use sins_imu::ParamModel;
 use sins_nav::{ARCSEC, DEG_PER_H, UG};
 use sins_sim::Scenario;

@@ -10,7 +10,10 @@
 //!   Table 5;
 //! - [`reference`]: the paper's Table 5 rows;
 //! - [`config`]: the report configuration;
-//! - [`gate`]: thresholds, their evaluation and JUnit XML for CI systems.
+//! - [`gate`]: thresholds, their evaluation and JUnit XML for CI systems; [`baseline`]: the
+//!   gate of a candidate release against a baseline over noise seeds, and [`gate_power`]: how
+//!   well that gate works on a release's own run-to-run spread;
+//! - [`parallel`]: the deterministic work pool (results in job order whatever the thread count).
 //!
 //! Nothing here reads or writes files or parses TOML / JSON: `sins-config` loads the report
 //! configuration, the thresholds and Table 5 into these types and writes and reads
@@ -24,6 +27,8 @@ pub mod baseline;
 pub mod config;
 mod error;
 pub mod gate;
+pub mod gate_power;
+pub mod parallel;
 pub mod pipeline;
 pub mod reference;
 pub mod replay_setup;

@@ -65,8 +65,29 @@ pub fn median_of_sorted(sorted: &[f64]) -> f64 {
 }
 
 /// The largest `k` with `P(U ≤ k − 1) ≤ alpha` under no shift (0 when even `P(U = 0)`
-/// exceeds `alpha`).
+/// exceeds `alpha`). Remembered per thread for the last few `(n, m, alpha)`: a gate compares
+/// every cell at one level, and `gate --power` thousands of draws of one size.
 pub fn bound_rank(n: usize, m: usize, alpha: f64) -> usize {
+    thread_local! {
+        static KNOWN: std::cell::RefCell<Vec<((usize, usize, u64), usize)>> =
+            const { std::cell::RefCell::new(Vec::new()) };
+    }
+    let key = (n, m, alpha.to_bits());
+    if let Some(k) = KNOWN.with(|c| c.borrow().iter().find(|e| e.0 == key).map(|e| e.1)) {
+        return k;
+    }
+    let k = bound_rank_uncached(n, m, alpha);
+    KNOWN.with(|c| {
+        let mut c = c.borrow_mut();
+        if c.len() >= 16 {
+            c.remove(0);
+        }
+        c.push((key, k));
+    });
+    k
+}
+
+fn bound_rank_uncached(n: usize, m: usize, alpha: f64) -> usize {
     let half = n * m / 2;
     if n + m <= EXACT_MAX {
         let cdf = exact_cdf(n, m);

@@ -6,6 +6,7 @@ use crate::ReportError;
 use crate::dataset::replay_dataset;
 use sins_config::{load_experiment, load_params, load_table5, model_name};
 use sins_harness::config::{NavigationSource, ParamOrigin, ReportConfig};
+use sins_harness::parallel::map_with_progress;
 use sins_harness::pipeline::{
     NamedParams, RunOutcome, scenario_samples, simulate_and_calibrate, simulate_and_replay,
 };
@@ -53,14 +54,17 @@ pub struct ReportRun {
     pub appendix: Option<String>,
 }
 
-/// Run `config`.
+/// Run `config`, the simulated calibration runs and then the simulated navigation runs each on
+/// up to `threads` threads (the results do not depend on it; datasets are replayed one after
+/// the other).
 pub fn run_report(
     config: &ReportConfig,
+    threads: usize,
     progress: &mut dyn Progress,
 ) -> Result<ReportRun, ReportError> {
     let mut timings = Vec::new();
     let started = Instant::now();
-    let sets = resolve_sets(config, progress)?;
+    let sets = resolve_sets(config, threads, progress)?;
     timings.push((
         "parameter sets".to_string(),
         started.elapsed().as_secs_f64(),
@@ -80,19 +84,30 @@ pub fn run_report(
             for sc in &mut exp.scenarios {
                 apply_noise_seed(sc, config.noise_seed);
             }
-            for sc in &exp.scenarios {
-                let t = Instant::now();
-                progress.begin(
-                    &format!("simulate + replay {}", sc.name),
-                    scenario_samples(sc)?,
-                );
-                let outcome =
-                    simulate_and_replay(sc, &named, &config.replay, &mut |n| progress.advance(n))?;
-                progress.end();
-                timings.push((
-                    format!("{} (simulate + replay)", sc.name),
-                    t.elapsed().as_secs_f64(),
-                ));
+            let total = exp
+                .scenarios
+                .iter()
+                .map(scenario_samples)
+                .sum::<Result<u64, _>>()?;
+            let names: Vec<&str> = exp.scenarios.iter().map(|s| s.name.as_str()).collect();
+            let phase = Instant::now();
+            progress.begin(&format!("simulate + replay {}", names.join(", ")), total);
+            // Each run is simulated from its own seed and replayed alone: the outcomes do not
+            // depend on the thread count.
+            let results = map_with_progress(
+                exp.scenarios.len(),
+                threads,
+                |i, done| {
+                    let t = Instant::now();
+                    simulate_and_replay(&exp.scenarios[i], &named, &config.replay, &mut |n| done(n))
+                        .map(|o| (o, t.elapsed().as_secs_f64()))
+                },
+                &mut |n| progress.advance(n),
+            );
+            progress.end();
+            for (sc, result) in exp.scenarios.iter().zip(results) {
+                let (outcome, secs) = result?;
+                timings.push((format!("{} (simulate + replay)", sc.name), secs));
                 sources.push(format!(
                     "simulated: {} run '{}' (seed {})",
                     path.display(),
@@ -101,6 +116,10 @@ pub fn run_report(
                 ));
                 outcomes.push(outcome);
             }
+            timings.push((
+                format!("all navigation runs, side by side on {threads} threads"),
+                phase.elapsed().as_secs_f64(),
+            ));
         }
         NavigationSource::Datasets(list) => {
             for (name, path) in list {
@@ -195,6 +214,7 @@ fn apply_noise_seed(sc: &mut sins_sim::Scenario, noise_seed: Option<u64>) {
 /// every filter calibrated on it).
 fn resolve_sets(
     config: &ReportConfig,
+    threads: usize,
     progress: &mut dyn Progress,
 ) -> Result<Vec<ResolvedSet>, ReportError> {
     // Per calibrated set, in order: its run (None: the section's) and its filter.
@@ -221,28 +241,47 @@ fn resolve_sets(
                 runs.push(run_of(i));
             }
         }
-        for name in runs {
-            let scenario = calibration_scenario(config, &exp.scenarios, cal, name)?;
-            let slots: Vec<usize> = (0..wanted.len()).filter(|&i| run_of(i) == name).collect();
-            let models: Vec<ParamModel> = slots.iter().map(|&i| wanted[i].1).collect();
-            progress.begin(
-                &format!("calibrate {} ({} filters)", scenario.name, models.len()),
-                scenario_samples(scenario)?,
-            );
-            let results = simulate_and_calibrate(
-                scenario,
-                &models,
-                cal.reference_temperature_degc,
-                &mut |n| progress.advance(n),
-            )?;
-            progress.end();
+        let scenarios = runs
+            .iter()
+            .map(|&name| calibration_scenario(config, &exp.scenarios, cal, name))
+            .collect::<Result<Vec<_>, _>>()?;
+        let slots_of = |name: Option<&str>| -> Vec<usize> {
+            (0..wanted.len()).filter(|&i| run_of(i) == name).collect()
+        };
+        let total = scenarios
+            .iter()
+            .map(|sc| scenario_samples(sc))
+            .sum::<Result<u64, _>>()?;
+        let names: Vec<&str> = scenarios.iter().map(|s| s.name.as_str()).collect();
+        progress.begin(
+            &format!("calibrate {} ({} filters)", names.join(", "), wanted.len()),
+            total,
+        );
+        // One simulation per run feeds every filter calibrated on it; runs in parallel.
+        let results = map_with_progress(
+            runs.len(),
+            threads,
+            |r, done| {
+                let models: Vec<ParamModel> =
+                    slots_of(runs[r]).iter().map(|&i| wanted[i].1).collect();
+                simulate_and_calibrate(
+                    scenarios[r],
+                    &models,
+                    cal.reference_temperature_degc,
+                    &mut |n| done(n),
+                )
+            },
+            &mut |n| progress.advance(n),
+        );
+        progress.end();
+        for ((name, scenario), result) in runs.iter().zip(&scenarios).zip(results) {
             let source = format!(
                 "calibrated by this report on the simulated run '{}' of {} ({:.1} h)",
                 scenario.name,
                 cal.experiment.display(),
                 sins_config::motion_duration_s(&scenario.motion) / 3600.0
             );
-            for (slot, r) in slots.into_iter().zip(results) {
+            for (slot, r) in slots_of(*name).into_iter().zip(result?) {
                 calibrated[slot] = Some((r, source.clone()));
             }
         }

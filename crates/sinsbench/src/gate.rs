@@ -50,6 +50,26 @@ pub struct Args {
     /// most 1 - confidence.
     #[arg(long, default_value_t = 0.95)]
     pub confidence: f64,
+    /// Or: measure the --baseline gate on one release's own run-to-run spread, from a `reports`
+    /// campaign of M noise seeds (directory or summary.json): every cell's median and 5-95 %
+    /// over the seeds, how often the release fails against itself on other seeds (random
+    /// disjoint draws of --seeds-per-side a side, at --margin-percent and --confidence), and
+    /// how often it fails when the candidate's --worsen-set cells are made worse by each of
+    /// --worsen-percent. Prints a table; writes nothing.
+    #[arg(long, conflicts_with_all = ["summary", "config", "thresholds", "baseline", "junit"])]
+    pub power: Option<PathBuf>,
+    /// Seeds a side for --power (each at most half the campaign's seeds).
+    #[arg(long, value_delimiter = ',', default_values_t = [8usize], requires = "power")]
+    pub seeds_per_side: Vec<usize>,
+    /// Worsenings (%) of --worsen-set for --power.
+    #[arg(long, value_delimiter = ',', default_values_t = [10.0, 20.0, 30.0, 50.0, 75.0, 100.0, 150.0], requires = "power")]
+    pub worsen_percent: Vec<f64>,
+    /// The parameter set --power worsens (default: the comparison's compensated set).
+    #[arg(long, requires = "power")]
+    pub worsen_set: Option<String>,
+    /// Comparisons drawn per row for --power (seeded: the table is reproducible).
+    #[arg(long, default_value_t = 200, requires = "power")]
+    pub draws: usize,
 }
 
 /// The gate found thresholds exceeded (exit code 1; errors exit with 2). A JUnit report that
@@ -81,6 +101,9 @@ fn junit_note(e: &Option<String>) -> String {
 pub fn run(args: Args, quiet: bool) -> Result<()> {
     if let (Some(b), Some(c)) = (&args.baseline, &args.candidate) {
         return run_baseline(&args, b, c);
+    }
+    if let Some(p) = &args.power {
+        return crate::gate_power::run(&args, p);
     }
     let (thresholds_path, report) = thresholds_and_report(&args)?;
     let thresholds = load_thresholds(&thresholds_path)?;
@@ -259,6 +282,7 @@ fn thresholds_and_report(args: &Args) -> Result<(PathBuf, Option<report::Args>)>
                 config: Some(c.clone()),
                 reports_dir: args.reports_dir.clone(),
                 uq: None,
+                threads: 2,
             };
             Ok((thresholds, Some(r)))
         }

@@ -14,6 +14,7 @@ mod child;
 mod defaults;
 mod diagnose;
 mod gate;
+mod gate_power;
 mod import;
 mod navigate;
 mod noise;

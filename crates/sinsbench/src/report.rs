@@ -1,7 +1,7 @@
 //! `sinsbench report`: the paper's Table 5, replicated or on your own data.
 
 use crate::out::say;
-use crate::{defaults, progress};
+use crate::{argcheck, defaults, progress};
 use anyhow::Result;
 use sins_config::load_report_config;
 use std::path::PathBuf;
@@ -25,6 +25,10 @@ pub struct Args {
     /// configuration's `uq` key.
     #[arg(long)]
     pub uq: Option<PathBuf>,
+    /// Worker threads: the simulated calibration runs, then the navigation runs, are computed
+    /// side by side (results do not depend on it).
+    #[arg(long, default_value_t = 2, value_parser = argcheck::threads)]
+    pub threads: usize,
 }
 
 /// Run the configured report and write it; returns the summary path.
@@ -37,7 +41,7 @@ pub fn produce(args: &Args, quiet: bool) -> Result<PathBuf> {
     let mut bars = progress::Bars::new(quiet);
     let uq_dir = args.uq.clone().or_else(|| config.uq.clone());
     let uq = uq_dir.as_deref().map(load_uq_summary).transpose()?;
-    let mut run = sins_report::run_report(&config, &mut bars)?;
+    let mut run = sins_report::run_report(&config, args.threads, &mut bars)?;
     if let (Some(u), Some(dir)) = (&uq, &uq_dir) {
         let s = &run.summary;
         let point = |cell: &str| point_of(s, cell);

@@ -134,4 +134,60 @@ fn a_release_is_judged_against_the_run_to_run_spread_of_its_baseline() {
     assert_refused(&gate(&base, &four), &["5 noise seeds", "4"]);
     // Six cells at 0.95 family-wise need 5 seeds a side (P(U = 0) = 1/70 > 0.05/6 at 4).
     assert_refused(&gate(&four, &four), &["at least 5"]);
+
+    power(dir, &base);
+}
+
+/// `gate --power` on a campaign of 10 seeds made from the 5 real ones (each again with its
+/// errors 0.5 % larger): the truth set made 10 times worse is caught in every draw, the table
+/// says so, and sides larger than half the campaign or an unknown set are refused.
+fn power(dir: &Path, base: &Path) {
+    let text = std::fs::read_to_string(base.join("summary.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let reports = v["reports"].as_array_mut().unwrap();
+    let mut more = reports.clone();
+    for r in &mut more {
+        for e in r["experiments"].as_array_mut().unwrap() {
+            for (_, cell) in e["results"].as_object_mut().unwrap() {
+                for key in ["max_horizontal_nmi", "max_horizontal_m"] {
+                    cell[key] = (cell[key].as_f64().unwrap() * 1.005).into();
+                }
+            }
+        }
+    }
+    reports.extend(more);
+    let ten = dir.join("ten.json");
+    std::fs::write(&ten, serde_json::to_string(&v).unwrap()).unwrap();
+    let power = |extra: &[&str]| {
+        exe()
+            .args(["gate", "--power", &s(&ten), "--draws", "20"])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let o = power(&[
+        "--seeds-per-side",
+        "5",
+        "--worsen-set",
+        "truth",
+        "--worsen-percent",
+        "900",
+    ]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{out}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(out.contains("over 10 noise seeds"), "{out}");
+    assert!(out.contains("| 5 | 900 % | 20 of 20 |"), "{out}");
+    assert!(
+        out.contains("5 seeds a side: the smallest worsening caught in 90 % of the draws is 900 %"),
+        "{out}"
+    );
+    assert_refused(
+        &power(&["--seeds-per-side", "6", "--worsen-set", "truth"]),
+        &["12 distinct seeds", "has 10"],
+    );
+    assert_refused(&power(&["--worsen-set", "nine"]), &["'nine'"]);
 }

@@ -285,3 +285,69 @@ fn report_on_own_datasets_and_parameter_files() {
     assert!(e.improvement_percent.unwrap() > 50.0);
     verify_rrd(&reports.join("own/cal.rrd"));
 }
+
+/// A report computes its simulated runs side by side (two calibration runs, then three
+/// navigation runs); the results do not depend on the thread count: `summary.json`, the
+/// calibrated parameter files and the error tracks are byte-identical with 1 and 3 threads.
+#[test]
+fn report_results_do_not_depend_on_the_thread_count() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let cal = short_calibration_experiment(dir.path());
+    // A second calibration run of the same scheme, its own seed.
+    let mut text = std::fs::read_to_string(&cal).unwrap();
+    text.push_str("\n[[run]]\nname = \"cal2\"\nseed = 2\n");
+    std::fs::write(&cal, text).unwrap();
+    let nav = common::short_navigation_experiment(dir.path(), "short_nav.toml", 900.0, 120.0, 60.0);
+    let config = dir.path().join("threads.toml");
+    std::fs::write(
+        &config,
+        format!(
+            "schema = 1\nname = \"threads\"\n\
+             [calibration]\nexperiment = \"{}\"\nrun = \"cal1\"\n\
+             [[parameter_set]]\nkey = \"42-state\"\ncalibrate = 42\n\
+             [[parameter_set]]\nkey = \"30-state\"\ncalibrate = 30\ncalibration_run = \"cal2\"\n\
+             [navigation]\nexperiment = \"{}\"\n\
+             [replay]\nalignment_s = 450.0\n",
+            cal.display(),
+            nav.display()
+        ),
+    )
+    .unwrap();
+    let out = |threads: &str| {
+        let d = dir.path().join(format!("t{threads}"));
+        let o = run(&[
+            "report",
+            "--config",
+            &s(&config),
+            "--threads",
+            threads,
+            "--reports-dir",
+            &s(&d),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        d.join("threads")
+    };
+    let (one, three) = (out("1"), out("3"));
+    let mut files = vec![
+        "summary.json".to_string(),
+        "params_42-state.toml".to_string(),
+        "params_30-state.toml".to_string(),
+    ];
+    for run in ["nav1", "nav2", "nav3"] {
+        files.push(format!("{run}_errors.parquet"));
+        files.push(format!("{run}_segments.parquet"));
+    }
+    for f in &files {
+        let (a, b) = (std::fs::read(one.join(f)), std::fs::read(three.join(f)));
+        assert!(
+            a.is_ok() && a.ok() == b.ok(),
+            "{f} differs between 1 and 3 threads"
+        );
+    }
+    // The two sets were calibrated on different runs.
+    let summary = std::fs::read_to_string(one.join("summary.json")).unwrap();
+    assert!(
+        summary.contains("'cal1'") && summary.contains("'cal2'"),
+        "{summary}"
+    );
+}

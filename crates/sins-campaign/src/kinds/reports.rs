@@ -110,7 +110,9 @@ impl Work for ReportsWork {
         let cfg = self
             .job_config(job)
             .ok_or_else(|| job_error(job, "out of range"))?;
-        let mut run = sins_report::run_report(&cfg, &mut Quiet).map_err(|e| job_error(job, e))?;
+        // One thread per report: the campaign already runs its jobs side by side.
+        let mut run =
+            sins_report::run_report(&cfg, 1, &mut Quiet).map_err(|e| job_error(job, e))?;
         let reports = dir.join("reports");
         std::fs::create_dir_all(&reports).map_err(|e| CampaignError::io(&reports, e))?;
         sins_report::write_report(&reports, &run).map_err(|e| job_error(job, e))?;
