@@ -155,6 +155,17 @@ fn power(dir: &Path, base: &Path) {
             }
         }
     }
+    // A candidate whose reports lack one cell is bad input naming the cell.
+    let mut lacking = serde_json::json!({ "reports": reports.clone() });
+    for r in lacking["reports"].as_array_mut().unwrap() {
+        r["experiments"][1]["results"]
+            .as_object_mut()
+            .unwrap()
+            .remove("truth");
+    }
+    let lacking_path = dir.join("lacking.json");
+    std::fs::write(&lacking_path, serde_json::to_string(&lacking).unwrap()).unwrap();
+    assert_refused(&gate(base, &lacking_path), &["lacks cell nav2 / truth"]);
     reports.extend(more);
     let ten = dir.join("ten.json");
     std::fs::write(&ten, serde_json::to_string(&v).unwrap()).unwrap();
