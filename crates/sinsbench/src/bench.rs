@@ -136,7 +136,7 @@ pub fn run(args: Args, _quiet: bool) -> Result<()> {
     ])?;
     let m = child(&["report", "--reports-dir", &p(&args.dir.join("reports"))])?;
     say!(
-        "report (default replica: two 4.2 h calibration runs simulated (ramp, stable 20 degC) + 42-state and two 30-state filters, 3 x 15 h simulated + replayed under the 3 sets, Table 5 as a prediction from the shipped study, plots, .rrd): {:.1} s wall, peak RSS {:.0} MB (runs side by side on 2 threads; one after the other, --threads 1: {:.1} s, {:.0} MB)",
+        "report (default replica: two 4.2 h calibration runs simulated (ramp, stable 20 degC) + 42-state and two 30-state filters, 3 x 15 h simulated + replayed under the 3 sets, Table 5 as a prediction from the shipped study, plots, .rrd): {:.1} s wall, peak RSS {:.0} MB (the runs side by side, --threads 3; one after the other, --threads 1: {:.1} s, {:.0} MB)",
         m.wall_s,
         m.peak_rss_mb,
         one.wall_s,

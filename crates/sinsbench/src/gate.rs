@@ -282,7 +282,7 @@ fn thresholds_and_report(args: &Args) -> Result<(PathBuf, Option<report::Args>)>
                 config: Some(c.clone()),
                 reports_dir: args.reports_dir.clone(),
                 uq: None,
-                threads: 2,
+                threads: 3,
             };
             Ok((thresholds, Some(r)))
         }
