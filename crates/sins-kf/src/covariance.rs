@@ -3,12 +3,12 @@
 //! 9 navigation rows and columns (`O(9 n²)` instead of `O(n³)`); the measurements of eqs (9)-(11)
 //! pick the six velocity and position states.
 
-use crate::dynamics::Mat9;
 use crate::moments::mat9_to_faer;
 use crate::states::{NAV_STATES, VEL};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
 use nalgebra::{SMatrix, SVector};
+use sins_nav::error_model::Mat9;
 
 /// Number of measurements: δV (3) and δL, δλ, δh.
 pub(crate) const N_MEAS: usize = 6;

@@ -1,55 +1,23 @@
 //! The navigation block of eq (6): the 9x9 error dynamics `F_nn` of `[φ, δV, δL, δλ, δh]`
 //! (NED, φ defined by `C_est = (I − [φ×]) C_true`, errors = estimate − truth), its transition
 //! matrix over one update interval and the discrete process noise of white gyro and
-//! accelerometer noise. All three come from the workspace's one error model,
-//! [`sins_nav::error_model`]; this module only adapts it to the filter (the augmented
-//! sensor-error blocks live in [`crate::moments`]).
+//! accelerometer noise are the workspace's one error model, [`sins_nav::error_model`]
+//! (`f_matrix`, `transition`, `process_noise`, used as they are by [`crate::engine`]; the
+//! augmented sensor-error blocks live in [`crate::moments`]). This module checks that block
+//! against the independent static model of `sins-nav`.
 //!
 //! On a turntable the IMU centre rests: the specific force in n is `−g^n` and the velocity zero,
 //! so `F_nn` is constant over an update interval; the time variation of eq (6) lives entirely in
 //! the input matrix of the coefficients (`C_b^n` turning with the table), which
 //! [`crate::moments`] integrates sample by sample.
 
-use crate::states::{NAV_STATES, PHI, POS, VEL};
-use sins_nav::Vec3;
-use sins_nav::error_model;
-
-/// 9x9 matrix of the navigation block.
-pub(crate) type Mat9 = error_model::Mat9;
-
-// The filter's navigation states are the error model's, in the same order.
-const _: () = assert!(
-    NAV_STATES == error_model::NAV_STATES
-        && PHI == error_model::PHI
-        && VEL == error_model::VEL
-        && POS == error_model::POS
-);
-
-/// `F_nn` of eq (6) at latitude `lat_rad`, height `height_m`, NED velocity `vel` (m/s) and NED
-/// specific force `f_ned` (m/s^2), with a free vertical channel (gravity gradient included):
-/// [`error_model::f_matrix`].
-pub(crate) fn nav_error_matrix(lat_rad: f64, height_m: f64, vel: &Vec3, f_ned: &Vec3) -> Mat9 {
-    error_model::f_matrix(lat_rad, height_m, vel, f_ned)
-}
-
-/// Transition `Φ_nn = e^{F t}` of the navigation block over `t` seconds:
-/// [`error_model::transition`].
-pub(crate) fn nav_transition(f: &Mat9, t: f64) -> Mat9 {
-    error_model::transition(f, t)
-}
-
-/// Discrete noise `∫_0^T e^{Fτ} Q_c e^{Fᵀτ} dτ` of white gyro noise (variance density `qg`,
-/// rad²/s) into φ and accelerometer noise (`qa`, m²/s³) into δV, to third order in `T`:
-/// [`error_model::process_noise`].
-pub(crate) fn nav_process_noise(f: &Mat9, t: f64, qg: f64, qa: f64) -> Mat9 {
-    error_model::process_noise(f, t, qg, qa)
-}
-
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::states::{POS, VEL};
     use nalgebra::SMatrix;
+    use sins_nav::Vec3;
     use sins_nav::earth::EarthAt;
+    use sins_nav::error_model::f_matrix;
     use sins_nav::linear::propagate_static;
 
     /// The navigation block, started from an attitude error at rest, reproduces the independent
@@ -58,7 +26,7 @@ mod tests {
     fn matches_the_static_linear_model() {
         let (lat, h) = (28.22f64.to_radians(), 60.0);
         let g = EarthAt::new(lat, h).gravity_mps2;
-        let f = nav_error_matrix(lat, h, &Vec3::zeros(), &Vec3::new(0.0, 0.0, -g));
+        let f = f_matrix(lat, h, &Vec3::zeros(), &Vec3::new(0.0, 0.0, -g));
         let step = 10.0;
         let phi = (f * step).exp();
         let phi0 = Vec3::new(1e-4, -2e-4, 3e-4);

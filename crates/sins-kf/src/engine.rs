@@ -8,7 +8,6 @@
 
 use crate::config::CalibrationConfig;
 use crate::covariance::{Covariance, N_MEAS};
-use crate::dynamics::{nav_error_matrix, nav_process_noise, nav_transition};
 use crate::moments::MomentSums;
 use crate::states::{NAV_STATES, POS, VEL, n_params};
 use faer::Mat;
@@ -16,6 +15,7 @@ use sins_imu::ParamModel;
 use sins_nav::alignment::AlignmentResult;
 use sins_nav::attitude::skew;
 use sins_nav::earth::EarthAt;
+use sins_nav::error_model::{self, Mat9};
 use sins_nav::{
     ConingOrder, Geodetic, Increment, Mat3, Strapdown, StrapdownConfig, Vec3, VerticalChannel,
     compensated_increments,
@@ -200,7 +200,7 @@ impl Engine {
 
     /// `Φ_np` for all non-navigation states: the coefficient block, then the wander columns
     /// (copies of the bias columns: the wander enters eq (6) like the bias).
-    fn phi_np(&self, f: &crate::dynamics::Mat9) -> Mat<f64> {
+    fn phi_np(&self, f: &Mat9) -> Mat<f64> {
         let base = self.sums.phi_np(f, self.n_params);
         if self.wander.is_empty() {
             return base;
@@ -225,10 +225,10 @@ impl Engine {
         let st = *self.nav.state();
         let pos = st.position;
         let f_ned = self.sums.mean_specific_force_ned();
-        let f = nav_error_matrix(pos.lat_rad, pos.height_m, &st.vel_ned_mps, &f_ned);
-        let phi_nn = nav_transition(&f, t);
+        let f = error_model::f_matrix(pos.lat_rad, pos.height_m, &st.vel_ned_mps, &f_ned);
+        let phi_nn = error_model::transition(&f, t);
         let phi_np = self.phi_np(&f);
-        let q_nn = nav_process_noise(&f, t, self.qg, self.qa);
+        let q_nn = error_model::process_noise(&f, t, self.qg, self.qa);
         self.cov
             .propagate(&phi_nn, &phi_np, &q_nn, &self.decay, &self.q_params);
         self.sums.clear();

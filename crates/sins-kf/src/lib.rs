@@ -33,6 +33,7 @@
 
 pub mod config;
 mod covariance;
+#[cfg(test)]
 mod dynamics;
 mod engine;
 pub mod error;

@@ -9,9 +9,9 @@
 //! multiply-adds per sample, exact for every sample-to-sample change of `C_b^n`. The terms
 //! with n ≥ 3 are of relative size `ω_ie T` (≈ 7e-5 at T = 1 s) and are dropped.
 
-use crate::dynamics::Mat9;
 use crate::states::{COLUMNS, PHI, Row, U_DT, VEL};
 use faer::Mat;
+use sins_nav::error_model::Mat9;
 use sins_nav::{Mat3, Vec3};
 
 /// Number of accumulated inputs per attitude column (see [`crate::states::U_DT`]).
@@ -143,7 +143,7 @@ pub(crate) fn mat9_to_faer(m: &Mat9) -> Mat<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::nav_error_matrix;
+    use sins_nav::error_model::f_matrix;
 
     /// Against a brute-force product of per-sample transition matrices `(I + F h)` with the
     /// input `G_k h`, for a body turning at 9 deg/s.
@@ -153,7 +153,7 @@ mod tests {
         let t = 1.0f64;
         let n = (t / h).round() as usize;
         let lat = 0.5f64;
-        let f = nav_error_matrix(lat, 0.0, &Vec3::zeros(), &Vec3::new(0.0, 0.0, -9.8));
+        let f = f_matrix(lat, 0.0, &Vec3::zeros(), &Vec3::new(0.0, 0.0, -9.8));
         let mut sums = MomentSums::new(t, h, true);
         let w = Vec3::new(0.3, -0.5, 0.8).normalize() * 9f64.to_radians();
         let fb = Vec3::new(1.0, 2.0, 9.0);

@@ -4,15 +4,9 @@
 
 use sins_imu::{ImuErrorParams, ParamModel};
 
-/// Number of navigation error states: `φ_N, φ_E, φ_D, δV_N, δV_E, δV_D, δL, δλ, δh`.
-pub const NAV_STATES: usize = 9;
-
-/// Index of `φ_N` (the attitude errors occupy 0..3).
-pub const PHI: usize = 0;
-/// Index of `δV_N` (the velocity errors occupy 3..6).
-pub const VEL: usize = 3;
-/// Index of `δL` (the position errors `δL, δλ, δh` occupy 6..9).
-pub const POS: usize = 6;
+// The navigation error states `φ_N, φ_E, φ_D, δV_N, δV_E, δV_D, δL, δλ, δh` and their indices
+// are the workspace's one error model's, declared once in sins-nav.
+pub use sins_nav::error_model::{NAV_STATES, PHI, POS, VEL};
 
 /// Names of all 42 states in the order of eq (8); the 30-state model uses the first 30.
 pub const STATE_NAMES: [&str; 42] = [

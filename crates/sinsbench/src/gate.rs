@@ -103,7 +103,17 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         return run_baseline(&args, b, c);
     }
     if let Some(p) = &args.power {
-        return crate::gate_power::run(&args, p);
+        let options = crate::gate_power::PowerOptions {
+            seeds_per_side: args.seeds_per_side.clone(),
+            worsen_percent: args.worsen_percent.clone(),
+            worsen_set: args.worsen_set.clone(),
+            draws: args.draws,
+            rule: sins_harness::baseline::BaselineRule {
+                margin_percent: args.margin_percent,
+                confidence: args.confidence,
+            },
+        };
+        return crate::gate_power::run(p, options);
     }
     let (thresholds_path, report) = thresholds_and_report(&args)?;
     let thresholds = load_thresholds(&thresholds_path)?;

@@ -1,7 +1,6 @@
 //! `sinsbench gate --power CAMPAIGN`: the baseline gate measured on one release's own
 //! run-to-run spread ([`sins_harness::gate_power`]), printed as tables.
 
-use crate::gate::Args;
 use crate::out::say;
 use anyhow::{Result, anyhow};
 use sins_harness::baseline::BaselineRule;
@@ -11,8 +10,22 @@ use std::path::Path;
 /// Share of the draws in which a worsening counts as caught.
 const CAUGHT_SHARE: f64 = 0.9;
 
-/// Run `gate --power`.
-pub fn run(args: &Args, campaign: &Path) -> Result<()> {
+/// What `gate --power` was asked (its command-line options).
+pub struct PowerOptions {
+    /// Seeds a side.
+    pub seeds_per_side: Vec<usize>,
+    /// Worsenings (%).
+    pub worsen_percent: Vec<f64>,
+    /// The set to worsen (default: the comparison's compensated set).
+    pub worsen_set: Option<String>,
+    /// Draws per row.
+    pub draws: usize,
+    /// The gate's margin (%) and family-wise confidence.
+    pub rule: BaselineRule,
+}
+
+/// Run `gate --power` on the `reports` campaign at `campaign`.
+pub fn run(campaign: &Path, args: PowerOptions) -> Result<()> {
     let list = sins_config::read_report_list(campaign)?;
     let set = match &args.worsen_set {
         Some(s) => s.clone(),
@@ -28,14 +41,11 @@ pub fn run(args: &Args, campaign: &Path) -> Result<()> {
             })?,
     };
     let plan = PowerPlan {
-        seeds_per_side: args.seeds_per_side.clone(),
-        worsen_percent: args.worsen_percent.clone(),
+        seeds_per_side: args.seeds_per_side,
+        worsen_percent: args.worsen_percent,
         set,
         draws: args.draws,
-        rule: BaselineRule {
-            margin_percent: args.margin_percent,
-            confidence: args.confidence,
-        },
+        rule: args.rule,
         seed: 1,
     };
     let study = power_study(&list, &plan)
