@@ -94,14 +94,20 @@ pub struct ReportConfig {
 /// and the noise seed): every run keeps its own stream, and each noise seed gives another draw
 /// of all of them.
 pub fn reseed(run_seed: u64, noise_seed: u64) -> u64 {
-    let mix = |mut z: u64| {
-        z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    };
-    mix(run_seed ^ mix(noise_seed))
+    splitmix64(run_seed ^ splitmix64(noise_seed))
 }
+
+/// SplitMix64's output for state `z` (Steele, Lea & Flood 2014): the state advanced by the
+/// golden gamma, then mixed. A generator returns `splitmix64(s)` and advances `s` by the gamma.
+pub fn splitmix64(z: u64) -> u64 {
+    let mut z = z.wrapping_add(SPLITMIX_GAMMA);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// SplitMix64's increment (2^64 / φ).
+pub const SPLITMIX_GAMMA: u64 = 0x9e37_79b9_7f4a_7c15;
 
 /// The coning algorithm named as on the command line (`reconstruct`, `one-plus-previous`,
 /// `two-sample`, `three-sample`, `four-sample`).

@@ -11,6 +11,8 @@
 //! are not independent trials: they estimate rates, with a spread wider than binomial.
 
 use crate::baseline::{BaselineRule, compare};
+use crate::config::{SPLITMIX_GAMMA, splitmix64};
+use crate::shift::quantile;
 use crate::summary::Summary;
 
 /// The run-to-run spread of one cell over a campaign's noise seeds (nmi).
@@ -22,7 +24,7 @@ pub struct CellSpread {
     pub set: String,
     /// Median maximum horizontal error (nmi).
     pub median_nmi: f64,
-    /// 5 % and 95 % quantiles (nmi; linear between order statistics).
+    /// 5 % and 95 % quantiles (nmi; type 7, [`quantile`]).
     pub p05_p95_nmi: (f64, f64),
 }
 
@@ -72,8 +74,8 @@ pub struct PowerPlan {
     pub seeds_per_side: Vec<usize>,
     /// Worsenings of the chosen set (%).
     pub worsen_percent: Vec<f64>,
-    /// The set to worsen (e.g. "42-state").
-    pub set: String,
+    /// The set to worsen (e.g. "42-state"); `None`: the campaign's compared (compensated) set.
+    pub set: Option<String>,
     /// Comparisons per row.
     pub draws: usize,
     /// The gate's margin and confidence.
@@ -90,14 +92,23 @@ pub fn power_study(campaign: &[Summary], plan: &PowerPlan) -> Result<PowerStudy,
     let first = campaign
         .first()
         .ok_or_else(|| "the campaign holds no report".to_string())?;
+    let set = match &plan.set {
+        Some(s) => s.clone(),
+        None => first
+            .comparison
+            .as_ref()
+            .map(|c| c.compensated.clone())
+            .ok_or_else(|| {
+                "the reports name no comparison: name the set to worsen (gate --power: --worsen-set KEY)".to_string()
+            })?,
+    };
     if !first
         .experiments
         .iter()
-        .any(|e| e.results.contains_key(&plan.set))
+        .any(|e| e.results.contains_key(&set))
     {
         return Err(format!(
-            "the campaign has no parameter set '{}' to worsen",
-            plan.set
+            "the campaign has no parameter set '{set}' to worsen"
         ));
     }
     if plan.draws == 0 {
@@ -124,7 +135,7 @@ pub fn power_study(campaign: &[Summary], plan: &PowerPlan) -> Result<PowerStudy,
             for (w, count) in worsen.iter().zip(&mut failed) {
                 let worse: Vec<Summary> = cand
                     .iter()
-                    .map(|s| worsened(s, &plan.set, 1.0 + w / 100.0))
+                    .map(|s| worsened(s, &set, 1.0 + w / 100.0))
                     .collect();
                 let (_, checks) = compare(&base, &worse, &plan.rule)?;
                 *count += usize::from(checks.iter().any(|c| !c.passed));
@@ -139,7 +150,7 @@ pub fn power_study(campaign: &[Summary], plan: &PowerPlan) -> Result<PowerStudy,
     }
     Ok(PowerStudy {
         seeds: m,
-        worsened_set: plan.set.clone(),
+        worsened_set: set,
         spreads: spreads(campaign),
         rows,
     })
@@ -153,12 +164,11 @@ pub fn spreads(campaign: &[Summary]) -> Vec<CellSpread> {
     let mut out = Vec::new();
     for e in &first.experiments {
         for set in e.results.keys() {
-            let mut v: Vec<f64> = campaign
+            let v: Vec<f64> = campaign
                 .iter()
                 .filter_map(|s| s.experiments.iter().find(|x| x.name == e.name))
                 .filter_map(|x| x.results.get(set).map(|r| r.max_horizontal_nmi))
                 .collect();
-            v.sort_by(f64::total_cmp);
             out.push(CellSpread {
                 experiment: e.name.clone(),
                 set: set.clone(),
@@ -168,17 +178,6 @@ pub fn spreads(campaign: &[Summary]) -> Vec<CellSpread> {
         }
     }
     out
-}
-
-/// The `p` quantile of sorted values, linear between order statistics (NaN when empty).
-fn quantile(sorted: &[f64], p: f64) -> f64 {
-    let Some(last) = sorted.len().checked_sub(1) else {
-        return f64::NAN;
-    };
-    let h = p * last as f64;
-    let (lo, frac) = (h.floor() as usize, h - h.floor());
-    let hi = (lo + 1).min(last);
-    sorted[lo] + frac * (sorted[hi] - sorted[lo])
 }
 
 /// `s` with set `set`'s maximum horizontal error multiplied by `factor` in every experiment.
@@ -193,16 +192,14 @@ fn worsened(s: &Summary, set: &str, factor: f64) -> Summary {
     out
 }
 
-/// SplitMix64: the draws' generator.
+/// SplitMix64 ([`crate::config::splitmix64`]): the draws' generator.
 struct SplitMix(u64);
 
 impl SplitMix {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        let out = splitmix64(self.0);
+        self.0 = self.0.wrapping_add(SPLITMIX_GAMMA);
+        out
     }
 
     /// `k` distinct indices of `0..m` in random order (partial Fisher-Yates).
@@ -243,7 +240,7 @@ mod tests {
         PowerPlan {
             seeds_per_side: sides,
             worsen_percent: vec![10.0, 25.0, 50.0, 100.0, 200.0],
-            set: "42-state".into(),
+            set: Some("42-state".into()),
             draws: 300,
             rule: BaselineRule::default(),
             seed: 1,
@@ -304,7 +301,7 @@ mod tests {
             "{e}"
         );
         let mut p = plan(vec![8]);
-        p.set = "99-state".into();
+        p.set = Some("99-state".into());
         let e = power_study(&c, &p).expect_err("set");
         assert!(e.contains("'99-state'"), "{e}");
     }

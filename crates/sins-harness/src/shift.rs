@@ -64,6 +64,20 @@ pub fn median_of_sorted(sorted: &[f64]) -> f64 {
     }
 }
 
+/// Quantile `p` in [0, 1] of the finite `values` (linear interpolation between order
+/// statistics, type 7). NaN for no finite values. The one quantile of the workspace's studies
+/// (`sins-uq` re-exports it).
+pub fn quantile(values: &[f64], p: f64) -> f64 {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let h = (v.len() - 1) as f64 * p.clamp(0.0, 1.0);
+    let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
+    v[lo] + (h - lo as f64) * (v[hi] - v[lo])
+}
+
 /// The largest `k` with `P(U ≤ k − 1) ≤ alpha` under no shift (0 when even `P(U = 0)`
 /// exceeds `alpha`). Remembered per thread for the last few `(n, m, alpha)`: a gate compares
 /// every cell at one level, and `gate --power` thousands of draws of one size.

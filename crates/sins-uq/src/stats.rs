@@ -4,18 +4,8 @@
 
 use crate::draw::Stream;
 
-/// Quantile `p` in [0, 1] of `values` (linear interpolation between order statistics, type 7).
-/// NaN for no values.
-pub fn quantile(values: &[f64], p: f64) -> f64 {
-    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let h = (v.len() - 1) as f64 * p.clamp(0.0, 1.0);
-    let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
-    v[lo] + (h - lo as f64) * (v[hi] - v[lo])
-}
+/// Quantile `p` in [0, 1] of `values` (type 7; the harness's, shared with the release gate).
+pub use sins_harness::shift::quantile;
 
 /// Mean and sample standard deviation (n - 1).
 pub fn mean_sd(values: &[f64]) -> (f64, f64) {

@@ -103,17 +103,18 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         return run_baseline(&args, b, c);
     }
     if let Some(p) = &args.power {
-        let options = crate::gate_power::PowerOptions {
+        let plan = sins_harness::gate_power::PowerPlan {
             seeds_per_side: args.seeds_per_side.clone(),
             worsen_percent: args.worsen_percent.clone(),
-            worsen_set: args.worsen_set.clone(),
+            set: args.worsen_set.clone(),
             draws: args.draws,
             rule: sins_harness::baseline::BaselineRule {
                 margin_percent: args.margin_percent,
                 confidence: args.confidence,
             },
+            seed: 1,
         };
-        return crate::gate_power::run(p, options);
+        return crate::gate_power::run(p, &plan);
     }
     let (thresholds_path, report) = thresholds_and_report(&args)?;
     let thresholds = load_thresholds(&thresholds_path)?;

@@ -3,52 +3,16 @@
 
 use crate::out::say;
 use anyhow::{Result, anyhow};
-use sins_harness::baseline::BaselineRule;
 use sins_harness::gate_power::{PowerPlan, power_study};
 use std::path::Path;
 
 /// Share of the draws in which a worsening counts as caught.
 const CAUGHT_SHARE: f64 = 0.9;
 
-/// What `gate --power` was asked (its command-line options).
-pub struct PowerOptions {
-    /// Seeds a side.
-    pub seeds_per_side: Vec<usize>,
-    /// Worsenings (%).
-    pub worsen_percent: Vec<f64>,
-    /// The set to worsen (default: the comparison's compensated set).
-    pub worsen_set: Option<String>,
-    /// Draws per row.
-    pub draws: usize,
-    /// The gate's margin (%) and family-wise confidence.
-    pub rule: BaselineRule,
-}
-
-/// Run `gate --power` on the `reports` campaign at `campaign`.
-pub fn run(campaign: &Path, args: PowerOptions) -> Result<()> {
+/// Run `gate --power` on the `reports` campaign at `campaign` as `plan` says.
+pub fn run(campaign: &Path, plan: &PowerPlan) -> Result<()> {
     let list = sins_config::read_report_list(campaign)?;
-    let set = match &args.worsen_set {
-        Some(s) => s.clone(),
-        None => list
-            .first()
-            .and_then(|s| s.comparison.as_ref())
-            .map(|c| c.compensated.clone())
-            .ok_or_else(|| {
-                anyhow!(
-                    "{}: the reports name no comparison; give --worsen-set KEY",
-                    campaign.display()
-                )
-            })?,
-    };
-    let plan = PowerPlan {
-        seeds_per_side: args.seeds_per_side,
-        worsen_percent: args.worsen_percent,
-        set,
-        draws: args.draws,
-        rule: args.rule,
-        seed: 1,
-    };
-    let study = power_study(&list, &plan)
+    let study = power_study(&list, plan)
         .map_err(|e| anyhow!("gate --power {}: {e}", campaign.display()))?;
     say!(
         "run-to-run spread over {} noise seeds (maximum horizontal error, nmi):",
