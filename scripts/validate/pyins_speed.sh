@@ -21,17 +21,22 @@ python3 -c "import pyins, pyarrow" 2>/dev/null ||
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 "$SB" --quiet simulate "$EXPERIMENT" --run "$RUN" --reference --out "$TMP"
-timed() { /usr/bin/time -f "%e %M" -o "$TMP/time" "$@" >"$TMP/out" 2>&1 || { cat "$TMP/out"; exit 1; }; read -r wall kb <"$TMP/time"; echo "$wall $kb"; }
+# Runs a command, its output in $TMP/out; "wall_s peak_kb" in $TMP/time. Stops the script when
+# the command fails (not inside a subshell, so that `exit` ends the script).
+timed() { /usr/bin/time -f "%e %M" -o "$TMP/time" "$@" >"$TMP/out" 2>&1 || { cat "$TMP/out"; exit 1; }; }
 # sinsbench with pyins' algorithm (coning and sculling from the previous increment), whose track
 # pyins must reproduce, then with its own default (the 13-sample reconstruction).
-read -r sb_s sb_kb < <(timed "$SB" --quiet navigate --dataset "$TMP/$RUN.parquet" --start truth \
-    --params experiments/imu/ideal.toml --algorithm one-plus-previous --out "$TMP/nav")
+timed "$SB" --quiet navigate --dataset "$TMP/$RUN.parquet" --start truth \
+    --params experiments/imu/ideal.toml --algorithm one-plus-previous --out "$TMP/nav"
+read -r sb_s sb_kb <"$TMP/time"
 grep "max horizontal error" "$TMP/out" | sed 's/^ */sinsbench, one-plus-previous: /'
-read -r rc_s rc_kb < <(timed "$SB" --quiet navigate --dataset "$TMP/$RUN.parquet" --start truth \
-    --params experiments/imu/ideal.toml --out "$TMP/nav-reconstruct")
+timed "$SB" --quiet navigate --dataset "$TMP/$RUN.parquet" --start truth \
+    --params experiments/imu/ideal.toml --out "$TMP/nav-reconstruct"
+read -r rc_s rc_kb <"$TMP/time"
 grep "max horizontal error" "$TMP/out" | sed 's/^ */sinsbench, reconstruct (default): /'
-read -r py_s py_kb < <(timed python3 scripts/validate/pyins_dataset.py "$TMP/$RUN.parquet" \
-    --compare "$TMP/nav/errors.parquet")
+timed python3 scripts/validate/pyins_dataset.py "$TMP/$RUN.parquet" \
+    --compare "$TMP/nav/errors.parquet"
+read -r py_s py_kb <"$TMP/time"
 cat "$TMP/out"
 awk -v s="$sb_s" -v sk="$sb_kb" -v r="$rc_s" -v rk="$rc_kb" -v p="$py_s" -v pk="$py_kb" 'BEGIN {
     printf "sinsbench navigate, one-plus-previous: %.2f s wall, %.0f MB peak RSS\n", s, sk / 1024;
