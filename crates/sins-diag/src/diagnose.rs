@@ -34,6 +34,13 @@ use sins_imu::EffectKind;
 /// Diagnose the gap between the real runs and their twin.
 pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diagnosis, DiagError> {
     check_request(input, cfg)?;
+    let longest_s = input
+        .runs
+        .iter()
+        .filter_map(|r| Some(r.track.last()?.t_s - r.track.first()?.t_s))
+        .fold(0.0, f64::max);
+    let (cfg, grid_note) = grid_for_duration(cfg, longest_s);
+    let cfg = &cfg;
     let kinds = cfg.candidate_kinds().map_err(|e| DiagError::input("", e))?;
     // The twin: sensitivities, noise covariance, the calibration run's absorption.
     let mut sens = sensitivities(input, cfg, &kinds)?;
@@ -43,6 +50,7 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
          (independent coefficients, common to all runs) + a white floor"
             .to_string(),
     ];
+    notes.extend(grid_note);
     let cat = catalogue(&kinds);
     let absorption = calibration_absorption(input, cfg, &cat.layouts, &mut sens, &mut notes)?;
     let pu = uncertainty(
@@ -295,6 +303,38 @@ fn check_request(input: &DiagnosisInput, cfg: &DiagnoseConfig) -> Result<(), Dia
     Ok(())
 }
 
+/// Fit times per run at most. The twin's covariance of a run is dense (its noise is correlated
+/// in time), and its factorisation, the inverse Gram of the fit and the time-local scan's
+/// whitened signals cost the cube (and memory the square) of the number of fit times: 450 for
+/// the paper's 15 h runs, 4500 for a 150 h run at the default grid, which took more than 10 min
+/// and 6.7 GB for one run where 15 h took 25 s.
+pub const MAX_FIT_TIMES_PER_RUN: usize = 1024;
+
+/// `cfg` with the fit grid and the scan's onset grid coarsened by the same whole factor when
+/// the longest run (navigating `span_s` seconds) would have more than
+/// [`MAX_FIT_TIMES_PER_RUN`] fit times, so that the cost per sample of a diagnosis stays flat
+/// with the length of the runs; and the note saying so.
+fn grid_for_duration(cfg: &DiagnoseConfig, span_s: f64) -> (DiagnoseConfig, Option<String>) {
+    let fit_times = span_s / cfg.fit_interval_s.max(1) as f64;
+    let factor = (fit_times / MAX_FIT_TIMES_PER_RUN as f64).ceil() as usize;
+    if factor <= 1 {
+        return (cfg.clone(), None);
+    }
+    let mut coarse = cfg.clone();
+    coarse.fit_interval_s *= factor;
+    coarse.events.onset_every_s *= factor;
+    let note = format!(
+        "the longest run navigates {:.1} h: the fit grid is every {} s and the time-local scan's \
+         onsets every {} s ({factor} times the configured grid), so that no run has more than \
+         {MAX_FIT_TIMES_PER_RUN} fit times (the dense twin covariance costs the cube of their \
+         number); onsets are located to that grid",
+        span_s / 3600.0,
+        coarse.fit_interval_s,
+        coarse.events.onset_every_s
+    );
+    (coarse, Some(note))
+}
+
 /// Each run's gap localised, with its own null test.
 fn localise_runs(
     input: &DiagnosisInput,
@@ -431,4 +471,31 @@ fn rank_catalogue(
         null,
         ranked,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper's 15 h runs keep the configured grid; a 150 h run gets a grid five times
+    /// coarser, whole multiples of the output interval, with at most the cap of fit times.
+    #[test]
+    fn long_runs_get_a_coarser_grid_and_short_ones_keep_theirs() {
+        let cfg = DiagnoseConfig::default();
+        let (same, note) = grid_for_duration(&cfg, 15.0 * 3600.0);
+        assert_eq!(same.fit_interval_s, cfg.fit_interval_s);
+        assert_eq!(same.events.onset_every_s, cfg.events.onset_every_s);
+        assert!(note.is_none());
+        let span_s = 150.0 * 3600.0;
+        let (coarse, note) = grid_for_duration(&cfg, span_s);
+        assert_eq!(coarse.fit_interval_s, 5 * cfg.fit_interval_s);
+        assert_eq!(coarse.events.onset_every_s, 5 * cfg.events.onset_every_s);
+        assert!(
+            coarse
+                .fit_interval_s
+                .is_multiple_of(coarse.output_interval_s)
+        );
+        assert!(span_s / coarse.fit_interval_s as f64 <= MAX_FIT_TIMES_PER_RUN as f64);
+        assert!(note.is_some_and(|n| n.contains("every 600 s")));
+    }
 }

@@ -6,6 +6,7 @@
 mod argcheck;
 mod bench;
 mod bench_import;
+mod bench_scaling;
 mod blind;
 mod calibrate;
 mod calreport;
