@@ -200,8 +200,9 @@ impl IncrementReconstructor {
         self.submit_ready();
     }
 
-    /// The next reconstructed update, in order, if computed (after [`Self::finish`], waits for
-    /// the workers until every update has been returned).
+    /// The next reconstructed update, in order, if computed (with background workers, their
+    /// finished batches are collected at most every 64 pushed samples; after [`Self::finish`],
+    /// waits for the workers until every update has been returned).
     pub fn pop(&mut self) -> Option<Reconstructed> {
         if self.out_pos == self.out.len() {
             // The workers return whole batches: asking after every sample costs a channel
