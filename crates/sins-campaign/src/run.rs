@@ -356,7 +356,7 @@ impl Opened {
     /// shards.
     ///
     /// The files are written into a staging directory in the campaign directory and moved into
-    /// place together ([`sins_config::files::commit_files`]): a failed or interrupted reduce
+    /// place together ([`sins_files::commit_files`]): a failed or interrupted reduce
     /// leaves the previous summary, report and timing as they were.
     pub fn reduce(&self) -> Result<Vec<String>, CampaignError> {
         let mut results = Vec::with_capacity(self.manifest.shards);
@@ -399,13 +399,12 @@ impl Opened {
         // The summary, report and timing are written into a staging directory inside DIR and
         // moved into place together: a failed or interrupted reduce leaves the previous ones.
         let stage_target = self.dir.join("reduce");
-        let staging = sins_config::files::Temporary::dir(&stage_target)
+        let staging = sins_files::Temporary::dir(&stage_target)
             .map_err(|e| CampaignError::io(&stage_target, e))?;
         let mut files = self.work.reduce(outcomes, &self.dir, staging.path())?;
         write_text(staging.path(), "timing.json", &timing_json(&timing))?;
         files.push("timing.json".into());
-        sins_config::files::commit_files(staging, &files)
-            .map_err(|e| CampaignError::io(&self.dir, e))?;
+        sins_files::commit_files(staging, &files).map_err(|e| CampaignError::io(&self.dir, e))?;
         Ok(files)
     }
 

@@ -74,7 +74,7 @@ pub(crate) fn from_values<T: DeserializeOwned>(
 /// Writes `text` to `dir/name` atomically.
 pub(crate) fn write_text(dir: &Path, name: &str, text: &str) -> Result<(), CampaignError> {
     let path = dir.join(name);
-    sins_config::write_file_atomically(&path, text.as_bytes())
+    sins_files::write_file_atomically(&path, text.as_bytes())
         .map_err(|e| CampaignError::io(&path, e))
 }
 

@@ -33,9 +33,7 @@ mod effects;
 mod error;
 mod exact;
 mod experiment;
-pub mod files;
 mod harness;
-pub mod lock;
 pub mod markdown;
 mod motion;
 pub mod names;
@@ -51,7 +49,6 @@ pub use coefficients::{Coefficient, coefficient_table};
 pub use effects::{effects_to_toml, parse_effects_toml};
 pub use error::ConfigError;
 pub use experiment::{EXPERIMENT_SCHEMA, Experiment, load_experiment};
-pub use files::write_file_atomically;
 pub use harness::{
     load_report_config, load_table5, load_thresholds, read_report_list, read_summary,
     summary_to_json,

@@ -27,10 +27,10 @@
 use crate::ctx::Ctx;
 use crate::error::ConfigError;
 use crate::experiment::{EXPERIMENT_SCHEMA, NoiseFile, build_noise, check_schema, load_experiment};
-use crate::files::write_file_atomically;
 use crate::toml_util;
 use crate::units::{DEG_PER_H_PER_SQRT_H, DEG_PER_SQRT_H, UG_PER_SQRT_H, UG_PER_SQRT_HZ};
 use serde::Deserialize;
+use sins_files::write_file_atomically;
 use sins_nav::{ARCSEC, DEG_PER_H, UG};
 use sins_sim::NoiseModel;
 use sins_sim::noise::GM_ALLAN_PEAK_RATIO;

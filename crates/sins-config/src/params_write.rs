@@ -107,10 +107,8 @@ pub fn write_params(path: impl AsRef<Path>, set: &ParamSet) -> Result<(), Config
         ParamFormat::Json => params_to_json(set),
     };
     // Write aside and rename, so a failure never leaves a half-written parameter file.
-    crate::files::write_file_atomically(path, text.as_bytes()).map_err(|source| {
-        ConfigError::Write {
-            path: path.to_owned(),
-            source,
-        }
+    sins_files::write_file_atomically(path, text.as_bytes()).map_err(|source| ConfigError::Write {
+        path: path.to_owned(),
+        source,
     })
 }

@@ -7,12 +7,12 @@ use std::path::Path;
 
 #[cfg(feature = "polars")]
 use polars::prelude::{DataFrame, KeyValueMetadata, ParquetCompression, ParquetWriter};
-use sins_config::files::Temporary;
+use sins_files::Temporary;
 
 use crate::error::DataError;
 
 /// A temporary file beside a target path (`.NAME.tmp-PID-N`, registered with
-/// [`sins_config::files`] so that the binary's signal handler removes it); removed on drop
+/// [`sins_files`] so that the binary's signal handler removes it); removed on drop
 /// unless [`TempPath::commit`] ran.
 #[derive(Debug)]
 pub(crate) struct TempPath {

@@ -6,6 +6,8 @@
 //!   `sins_diag::diagnose` against the twin (identified model + noise model);
 //! - [`write_diagnosis`]: `report.md`, `diagnosis.json`, PNG plots of the gap against the twin's
 //!   3-sigma envelope, one Rerun recording, written atomically;
+//! - [`noise_report`]: the report of `sinsbench noise` (terms, stretches, motion, warnings,
+//!   Allan plot) written as a directory `diagnose --noise-from` reads;
 //! - [`blind`]: the blind validation suite (cases with hidden effects, sealed manifests whose
 //!   hashes are fixed before the diagnosis runs, grading with the confusion table).
 
@@ -17,6 +19,7 @@ mod markdown;
 mod markdown_events;
 mod markdown_rivals;
 mod noise;
+pub mod noise_report;
 mod run;
 mod source;
 pub mod still;

@@ -43,6 +43,5 @@ pub use uq_config::{
 };
 pub use uq_markdown::{render_uq_markdown, uq_table_for_report};
 pub use uq_write::{
-    intervals_figure, read_sample, sample_path, sensitivity_figure, write_atomic, write_sample,
-    write_uq_outputs,
+    intervals_figure, read_sample, sample_path, sensitivity_figure, write_sample, write_uq_outputs,
 };

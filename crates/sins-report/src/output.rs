@@ -24,9 +24,9 @@ fn write_text(path: &Path, text: &str) -> Result<(), ReportError> {
     write_bytes(path, text.as_bytes())
 }
 
-/// Writes `bytes` aside and renames them into place ([`sins_config::write_file_atomically`]).
+/// Writes `bytes` aside and renames them into place ([`sins_files::write_file_atomically`]).
 pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), ReportError> {
-    sins_config::write_file_atomically(path, bytes).map_err(|e| ReportError::io(path, e))
+    sins_files::write_file_atomically(path, bytes).map_err(|e| ReportError::io(path, e))
 }
 
 /// Write `run` into `<reports_dir>/<name>/`, replacing an existing report only once the new one
@@ -64,11 +64,10 @@ where
     std::fs::create_dir_all(reports_dir).map_err(|e| ReportError::io(reports_dir, e))?;
     let target = reports_dir.join(name);
     check_replaceable(&target, kind, None)?;
-    let staging =
-        sins_config::files::Temporary::dir(&target).map_err(|e| ReportError::io(&target, e))?;
+    let staging = sins_files::Temporary::dir(&target).map_err(|e| ReportError::io(&target, e))?;
     let files = fill(staging.path())?;
     let marker = staging.path().join(OUTPUT_MARKER);
-    sins_config::write_file_atomically(&marker, format!("{kind}\n").as_bytes())
+    sins_files::write_file_atomically(&marker, format!("{kind}\n").as_bytes())
         .map_err(|e| ReportError::io(&marker, e))?;
     check_replaceable(&target, kind, Some(&files))?;
     swap_into_place(staging, &target)?;
@@ -178,12 +177,9 @@ fn fill(dir: &Path, run: &ReportRun) -> Result<Vec<String>, ReportError> {
     Ok(files)
 }
 
-/// Replace `target` by `staging` ([`sins_config::files::replace_dir`]): the old output is moved
+/// Replace `target` by `staging` ([`sins_files::replace_dir`]): the old output is moved
 /// aside, the new one moved in, the old one deleted; the output is momentarily absent, never
 /// partial, and a run killed in between has the old one put back by the next run.
-fn swap_into_place(
-    staging: sins_config::files::Temporary,
-    target: &Path,
-) -> Result<(), ReportError> {
-    sins_config::files::replace_dir(staging, target).map_err(|e| ReportError::io(target, e))
+fn swap_into_place(staging: sins_files::Temporary, target: &Path) -> Result<(), ReportError> {
+    sins_files::replace_dir(staging, target).map_err(|e| ReportError::io(target, e))
 }

@@ -11,9 +11,9 @@ use sins_uq::summary::UqSummary;
 use std::path::{Path, PathBuf};
 
 /// Writes `bytes` to `path` aside and renames it into place
-/// ([`sins_config::write_file_atomically`]).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ReportError> {
-    sins_config::write_file_atomically(path, bytes).map_err(|e| ReportError::io(path, e))
+/// ([`sins_files::write_file_atomically`]), the error naming `path`.
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ReportError> {
+    sins_files::write_file_atomically(path, bytes).map_err(|e| ReportError::io(path, e))
 }
 
 /// The file of one sample.

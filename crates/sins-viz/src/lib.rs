@@ -3,7 +3,7 @@
 //!
 //! A recording is built in memory (a Rerun memory sink: no I/O, so no flush that can hang on a
 //! full disk), encoded, and written aside and renamed into place by
-//! [`sins_config::write_file_atomically`]: a failed write (disk full, read-only directory)
+//! [`sins_files::write_file_atomically`]: a failed write (disk full, read-only directory)
 //! ends at once with an error naming the file, and never leaves a truncated `.rrd` in place of
 //! a good one.
 
@@ -65,7 +65,7 @@ pub(crate) fn save_memory(
         path: path.display().to_string(),
         message: e.to_string(),
     })?;
-    sins_config::write_file_atomically(path, &bytes).map_err(|source| VizError::Write {
+    sins_files::write_file_atomically(path, &bytes).map_err(|source| VizError::Write {
         path: path.display().to_string(),
         source,
     })

@@ -87,14 +87,14 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         _ => Path::new("."),
     };
     crate::outputs::sweep(parent);
-    sins_config::lock::lock_output(parent, None)?;
+    sins_files::lock::lock_output(parent, None)?;
     let unchanged = format!(
         "the previous {}, {} and {} are unchanged",
         args.out.display(),
         history.display(),
         rrd.display()
     );
-    sins_config::files::set_interrupt_note(Some(unchanged.clone()));
+    sins_files::set_interrupt_note(Some(unchanged.clone()));
     let noise = FilterNoise::from_sensor(
         args.gyro_arw_deg_per_sqrt_h * sins_nav::DEG / 60.0,
         gauss_markov_sigma_from_allan(args.gyro_bias_instability_deg_per_h * DEG_PER_H),
@@ -132,7 +132,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     );
     // The three files are written into a staging directory beside them and moved into place
     // together once all are complete: an interrupted or failed run leaves the previous ones.
-    let staging = sins_config::files::Temporary::dir(&args.out).with_context(|| {
+    let staging = sins_files::Temporary::dir(&args.out).with_context(|| {
         format!(
             "cannot create a staging directory beside {}",
             args.out.display()
@@ -160,7 +160,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         .collect();
     sins_viz::write_series(&staged(2), "calibration", &series)
         .with_context(|| unchanged.clone())?;
-    sins_config::files::commit_files(staging, &names)
+    sins_files::commit_files(staging, &names)
         .with_context(|| format!("cannot move the new files into place; {unchanged}"))?;
     print_result(&result)?;
     say!(

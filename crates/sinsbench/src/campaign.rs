@@ -105,7 +105,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         Step::Reduce { dir } => {
             crate::outputs::sweep(&dir);
             let opened = sins_campaign::open(&dir, &context()?)?;
-            sins_config::lock::lock_output(&dir, None)?;
+            sins_files::lock::lock_output(&dir, None)?;
             reduce(&opened, &dir)
         }
         Step::Status { dir, missing } => {
@@ -152,7 +152,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         } => {
             let ctx = context()?;
             plan(&config, &out, &ctx)?;
-            sins_config::lock::lock_output(&out, None)?;
+            sins_files::lock::lock_output(&out, None)?;
             let opened = sins_campaign::open(&out, &ctx)?;
             let todo = opened.missing()?;
             for s in &todo {
@@ -202,7 +202,7 @@ fn reduce(opened: &Opened, dir: &Path) -> Result<()> {
         "the previous summary.json, report.md and timing.json in {} are unchanged",
         dir.display()
     );
-    sins_config::files::set_interrupt_note(Some(unchanged.clone()));
+    sins_files::set_interrupt_note(Some(unchanged.clone()));
     let had_previous = dir.join("summary.json").exists();
     let files = opened.reduce().map_err(|e| {
         let e = anyhow::Error::from(e);

@@ -141,7 +141,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                     ),
                     e => anyhow!(e),
                 })?;
-            let line = crate::noise::one_line(&id);
+            let line = sins_gap::noise_report::noise_one_line(&id);
             let mut notes = vec![format!(
                 "twin noise: identified from the data's stationary segments (sinsbench noise): {line}"
             )];

@@ -210,7 +210,7 @@ fn verdict(checks: &[Check], junit_error: Option<anyhow::Error>) -> Result<()> {
 fn write_junit(path: &Path, suite: &str, checks: &[Check]) -> Result<()> {
     crate::outputs::sweep(path.parent().unwrap_or(Path::new(".")));
     let xml = junit_xml(&format!("sinsbench gate {suite}"), checks);
-    sins_config::write_file_atomically(path, xml.as_bytes()).map_err(|e| {
+    sins_files::write_file_atomically(path, xml.as_bytes()).map_err(|e| {
         anyhow!(
             "the JUnit report {} was not written: {e}; check that its directory exists and is \
              writable, or give another --junit path",

@@ -166,7 +166,7 @@ fn main() -> std::process::ExitCode {
     };
     // The output locks go with the process; their files go now (a run killed with SIGKILL
     // leaves its lock file, which blocks nothing).
-    sins_config::lock::release_all();
+    sins_files::lock::release_all();
     if cli.stats {
         stats::print(started.elapsed());
     }

@@ -28,11 +28,11 @@ pub fn install() -> Result<()> {
                 note!("{name}: stopping; this run's temporary files are removed");
                 // Says what the interrupted command leaves unchanged (when it set a note) and
                 // releases the output locks.
-                sins_config::files::remove_temporaries_and_exit(128 + sig);
+                sins_files::remove_temporaries_and_exit(128 + sig);
             }
         })
         .context("cannot start the signal thread")?;
-    sins_config::files::set_stale_notifier(|msg| note!("note: {msg}"));
+    sins_files::set_stale_notifier(|msg| note!("note: {msg}"));
     Ok(())
 }
 
@@ -44,7 +44,7 @@ pub fn sweep(dir: &Path) {
     } else {
         dir
     };
-    sins_config::files::sweep_stale_once(dir);
+    sins_files::sweep_stale_once(dir);
 }
 
 /// Refuses an output file path that is taken by a directory (or a link to one); a file there is
@@ -86,6 +86,6 @@ pub fn output_dir(out: &Path, kind: &str) -> Result<(PathBuf, String)> {
         .context("--out must name a directory")?;
     sweep(&parent);
     sins_report::check_output_dir(&parent, &name, kind)?;
-    sins_config::lock::lock_output(&parent, Some(&name))?;
+    sins_files::lock::lock_output(&parent, Some(&name))?;
     Ok((parent, name))
 }

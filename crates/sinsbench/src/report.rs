@@ -39,7 +39,7 @@ pub fn produce(args: &Args, quiet: bool) -> Result<PathBuf> {
     let config = load_report_config(&path)?;
     crate::outputs::sweep(&args.reports_dir);
     sins_report::check_output_dir(&args.reports_dir, &config.name, "report")?;
-    sins_config::lock::lock_output(&args.reports_dir, Some(&config.name))?;
+    sins_files::lock::lock_output(&args.reports_dir, Some(&config.name))?;
     let mut bars = progress::Bars::new(quiet);
     let uq_dir = args.uq.clone().or_else(|| config.uq.clone());
     let uq = uq_dir.as_deref().map(load_uq_summary).transpose()?;

@@ -131,13 +131,13 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     sins_report::check_output_space(&out, needed, output_limit_bytes(&args)?)?;
     std::fs::create_dir_all(&out)
         .with_context(|| format!("cannot create output directory {}", out.display()))?;
-    sins_config::lock::lock_output(&out, None)?;
+    sins_files::lock::lock_output(&out, None)?;
     // Every run is written into a staging directory inside OUT and the whole set is moved into
     // place at the end: an interrupted or failed run leaves the previous datasets as they were.
-    let staging = sins_config::files::Temporary::dir(&out.join("simulate"))
+    let staging = sins_files::Temporary::dir(&out.join("simulate"))
         .with_context(|| format!("cannot create a staging directory in {}", out.display()))?;
     let unchanged = format!("the previous datasets in {} are unchanged", out.display());
-    sins_config::files::set_interrupt_note(Some(unchanged.clone()));
+    sins_files::set_interrupt_note(Some(unchanged.clone()));
     let mut names = Vec::new();
     let mut lines = Vec::new();
     for scenario in &experiment.scenarios {
@@ -167,7 +167,7 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         ));
         names.push(name);
     }
-    sins_config::files::commit_files(staging, &names).with_context(|| {
+    sins_files::commit_files(staging, &names).with_context(|| {
         format!(
             "cannot move the new datasets into {}; {unchanged}",
             out.display()

@@ -6,7 +6,7 @@ use crate::{defaults, progress};
 use anyhow::{Context, Result, bail};
 use sha2::{Digest, Sha256};
 use sins_report::{
-    UqStudy, load_uq_study, read_sample, sample_path, write_atomic, write_sample, write_uq_outputs,
+    UqStudy, load_uq_study, read_sample, sample_path, write_sample, write_uq_outputs,
 };
 use sins_uq::sample::{Job, SampleOutcome, all_jobs, job_work, run_jobs, study_name};
 use std::path::{Path, PathBuf};
@@ -199,7 +199,8 @@ fn prepare_out(out: &Path, manifest: &str) -> Result<()> {
         }
     }
     std::fs::create_dir_all(out.join("samples")).with_context(|| out.display().to_string())?;
-    write_atomic(&file, manifest.as_bytes())?;
+    sins_files::write_file_atomically(&file, manifest.as_bytes())
+        .with_context(|| format!("writing {}", file.display()))?;
     Ok(())
 }
 

@@ -2,7 +2,7 @@
 //! at pseudo-random moments (a fixed seed; SIGINT, SIGTERM and SIGKILL in turn), at least 20
 //! times each. The run that is killed always writes a *different* set from the one in place
 //! (another seed or another input), so that every file can be told apart: after every kill and
-//! the cleanup the next run does ([`sins_config::files::sweep_stale`], what every command runs in
+//! the cleanup the next run does ([`sins_files::sweep_stale`], what every command runs in
 //! its output directories), each file of the set must be the previous one (same inode, same
 //! bytes) or the new one (a new inode holding what a complete run of the killed command writes;
 //! `.rrd` recordings carry fresh ids and must decode completely instead), and all files of the
@@ -43,7 +43,7 @@ fn scan(
         let e = e.unwrap();
         let name = e.file_name().to_string_lossy().into_owned();
         let rel = format!("{prefix}{name}");
-        if sins_config::lock::is_lock_file(&name) {
+        if sins_files::lock::is_lock_file(&name) {
             // Not part of the set and not a temporary: a lock file left by a SIGKILLed run
             // blocks nothing.
             continue;
@@ -288,7 +288,7 @@ fn kill_loop(t: &Target<'_>, rng: &mut Rng) -> Counts {
             c.finished_before_kill += 1;
         }
         // The next run's cleanup.
-        let notes = sins_config::files::sweep_stale(t.sweep_dir);
+        let notes = sins_files::sweep_stale(t.sweep_dir);
         if notes
             .iter()
             .any(|n| n.contains("completed the replacement"))

@@ -23,6 +23,7 @@ const NUMERIC: &[&str] = &[
 /// What a numeric crate must not reach: the format and output crates of the workspace and the
 /// I/O libraries they wrap.
 const IO: &[&str] = &[
+    "sins-files",
     "sins-config",
     "sins-data",
     "sins-plot",

@@ -267,7 +267,7 @@ pub fn leftovers(dir: &Path) -> Vec<String> {
                 .filter(|n| {
                     n.starts_with('.')
                         && n != ".sinsbench-output"
-                        && !sins_config::lock::is_lock_file(n)
+                        && !sins_files::lock::is_lock_file(n)
                 })
                 .collect()
         })
