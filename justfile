@@ -33,7 +33,8 @@ bench:
 # Formatting and lints.
 check:
     cargo fmt --all -- --check
-    cargo clippy --release --workspace --all-targets
+    cargo clippy --release --workspace --all-targets -- -D warnings
+    RUSTDOCFLAGS="-D warnings" cargo doc --release --workspace --no-deps
 
 # Fuzz the readers and parsers (cargo-fuzz, nightly): every target for SECS seconds one after the
 # other, or only TARGET. `cargo install cargo-fuzz` first; see README.md, "Fuzzing".

@@ -23,6 +23,9 @@ use crate::whiten::Nuisance;
 use nalgebra::DVector;
 use sins_imu::EffectKind;
 
+/// One candidate layout's columns: per component, per run.
+type RunColumns = Vec<Vec<DVector<f64>>>;
+
 /// Spacing of the ramps of the time-course basis (s).
 pub const KNOT_S: f64 = 3600.0;
 
@@ -139,7 +142,7 @@ pub(crate) fn confounds(
         .collect();
     // columns[layout][component][run]
     // A candidate without information (no temperature record) has nothing to lose.
-    let (layouts, columns): (Vec<&Layout>, Vec<Vec<Vec<DVector<f64>>>>) = layouts
+    let (layouts, columns): (Vec<&Layout>, Vec<RunColumns>) = layouts
         .iter()
         .map(|l| {
             let cols: Vec<Vec<DVector<f64>>> =

@@ -82,8 +82,10 @@ pub fn quantile(values: &[f64], p: f64) -> f64 {
 /// exceeds `alpha`). Remembered per thread for the last few `(n, m, alpha)`: a gate compares
 /// every cell at one level, and `gate --power` thousands of draws of one size.
 pub fn bound_rank(n: usize, m: usize, alpha: f64) -> usize {
+    /// `(n, m, alpha's bits)` and its bound rank.
+    type Known = ((usize, usize, u64), usize);
     thread_local! {
-        static KNOWN: std::cell::RefCell<Vec<((usize, usize, u64), usize)>> =
+        static KNOWN: std::cell::RefCell<Vec<Known>> =
             const { std::cell::RefCell::new(Vec::new()) };
     }
     let key = (n, m, alpha.to_bits());

@@ -56,9 +56,9 @@ pub enum ImportError {
         /// Where.
         at: SourcePos,
         /// The column (as the description names it).
-        column: String,
+        column: Box<str>,
         /// The text found.
-        text: String,
+        text: Box<str>,
         /// Why it was refused.
         reason: &'static str,
     },

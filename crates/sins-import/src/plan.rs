@@ -12,6 +12,9 @@ use crate::source::Source;
 use crate::timeline::{Event, Record, Refusal, Timeline, TimelineConfig};
 use crate::units::{Sensor, body_from_sensor, channel_factors, temperature_affine, time_factor};
 
+/// Where [`Plan::run`] sends the samples it emits: the stretch's index and a batch of samples.
+pub type SampleSink<'a> = dyn FnMut(usize, &[ImuSample]) -> Result<(), ImportError> + 'a;
+
 /// How many stamps the rate estimate looks at when `time.rate_hz` is not given.
 pub const RATE_ESTIMATE_RECORDS: usize = 1001;
 
@@ -264,7 +267,7 @@ impl Plan {
     pub fn run(
         &self,
         file: &Path,
-        sink: &mut dyn FnMut(usize, &[ImuSample]) -> Result<(), ImportError>,
+        sink: &mut SampleSink<'_>,
         events: &mut dyn FnMut(SourcePos, f64, Event),
         progress: &mut dyn FnMut(u64),
     ) -> Result<(Timeline, u64), ImportError> {

@@ -490,8 +490,8 @@ impl Source {
                         return Err(ImportError::Value {
                             file: self.file.clone(),
                             at,
-                            column: self.wanted_names[k].clone(),
-                            text: x.to_string(),
+                            column: self.wanted_names[k].as_str().into(),
+                            text: x.to_string().into(),
                             reason: "is not finite",
                         });
                     }
@@ -579,8 +579,8 @@ fn parse_number(file: &Path, at: SourcePos, column: &str, text: &[u8]) -> Result
     let bad = |reason| ImportError::Value {
         file: file.to_path_buf(),
         at,
-        column: column.to_string(),
-        text: String::from_utf8_lossy(text).into_owned(),
+        column: column.into(),
+        text: String::from_utf8_lossy(text).into(),
         reason,
     };
     let s = text.trim_ascii();

@@ -300,6 +300,8 @@ fn bartlett(u: &[(usize, f64, f64)], chunks: &[Chunk], alpha: f64) -> Option<Het
         p: chi2_sf(statistic, k - 1.0),
         worst: (w.run, w.start_s, w.duration_s, ratio),
         at_turn_on: !high.is_empty() && high.iter().all(|&i| first_of_run(i)),
+        // Not `!(1/F..=F).contains(&ratio)`: a NaN ratio is not a finding.
+        #[allow(clippy::manual_range_contains)]
         finding: ratio > FACTOR || ratio < 1.0 / FACTOR,
     })
 }

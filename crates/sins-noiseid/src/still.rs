@@ -128,6 +128,8 @@ impl WindowBuilder {
         if full {
             self.close();
         }
+        // Lazy on purpose: the window is built once per window, not on every sample.
+        #[allow(clippy::unnecessary_lazy_evaluations)]
         let (w, shift, sum) = self.open.get_or_insert_with(|| {
             (
                 Window {

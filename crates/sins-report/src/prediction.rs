@@ -8,6 +8,9 @@ use sins_uq::cell::{CellId, CellKind};
 use sins_uq::summary::{CellSummary, UqSummary};
 use std::fmt::Write as _;
 
+/// A cell's median with its 5 % and 95 % quantiles.
+type MedianInterval = (f64, f64, f64);
+
 /// The section. `source` says where the study is and how to regenerate it; `point(cell)` is this
 /// report's figure of a cell label ("exp1 without": nmi, or % for an improvement).
 pub fn prediction_for_report(
@@ -208,7 +211,7 @@ fn improvement_words(o: &mut String, imp: &[&CellSummary]) {
         return;
     }
     // (label, per experiment (median, p05, p95)).
-    let mut levels: Vec<(String, Vec<(f64, f64, f64)>)> = Vec::new();
+    let mut levels: Vec<(String, Vec<MedianInterval>)> = Vec::new();
     for c in imp {
         for l in &c.by_level {
             match levels.iter_mut().find(|(n, _)| *n == l.level) {

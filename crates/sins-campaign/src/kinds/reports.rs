@@ -66,11 +66,11 @@ impl ReportsWork {
             loaded.push(cfg);
         }
         let noise_seeds = noise_seeds.unwrap_or(0);
-        let _ = write!(fingerprint, "noise_seeds {noise_seeds}\n");
+        let _ = writeln!(fingerprint, "noise_seeds {noise_seeds}");
         // Left out of the fingerprint at its default, so plans made before the key existed
         // still open.
         if *first_noise_seed != 1 {
-            let _ = write!(fingerprint, "first_noise_seed {first_noise_seed}\n");
+            let _ = writeln!(fingerprint, "first_noise_seed {first_noise_seed}");
         }
         Ok(Self {
             configs: loaded,

@@ -284,9 +284,9 @@ fn different_history_cases_are_temperature_driven_and_name_their_experiment() {
 #[test]
 fn the_varied_histories_experiment_has_three_distinct_chamber_histories() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../experiments");
-    let paper = sins_config::load_experiment(&dir.join("paper_navigation.toml")).unwrap();
+    let paper = sins_config::load_experiment(dir.join("paper_navigation.toml")).unwrap();
     let varied =
-        sins_config::load_experiment(&dir.join("blind/navigation_varied_histories.toml")).unwrap();
+        sins_config::load_experiment(dir.join("blind/navigation_varied_histories.toml")).unwrap();
     assert_eq!(varied.name, default_histories_experiment());
     let names = |e: &sins_config::Experiment| -> Vec<String> {
         e.scenarios.iter().map(|s| s.name.clone()).collect()
