@@ -204,7 +204,7 @@ pub fn recalibrate(
 }
 
 /// Measure the absorption on calibration run `cal` for `components` (see [`recalibrate`]):
-/// finite differences of [`STEP_TIMES_TYPICAL`] typical magnitudes against the run as recorded.
+/// finite differences of `STEP_TIMES_TYPICAL` typical magnitudes against the run as recorded.
 pub fn absorption(
     cal: CalibrationRun<'_>,
     params: &ImuErrorParams,

@@ -66,7 +66,7 @@ pub struct CandidateReport {
     /// Bayesian information criterion improvement `dchi2 - dof ln n` (positive favours it).
     pub delta_bic: f64,
     /// Penalty of physically implausible magnitudes: `Σ (value / (K · typical))²` over the
-    /// retained components, K = [`crate::rank::PRIOR_TIMES_TYPICAL`] (a Gaussian prior with a
+    /// retained components, K = `rank::PRIOR_TIMES_TYPICAL` (a Gaussian prior with a
     /// standard deviation of K times the kind's typical navigation-grade magnitude).
     #[serde(default)]
     pub plausibility_penalty: f64,

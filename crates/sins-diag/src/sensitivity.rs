@@ -17,7 +17,7 @@ use sins_imu::{EffectKind, EffectSpec, ImuErrorParams, Linearity};
 use sins_nav::{Geodetic, Vec3};
 use sins_replay::ErrorPoint;
 
-/// Indices (into [`crate::columns::PARAM_SLOTS`]) of the six bias coefficients, whose full responses carry the
+/// Indices (into `columns::PARAM_SLOTS`) of the six bias coefficients, whose full responses carry the
 /// random-walk candidates: gyro x, y, z then accelerometer x, y, z.
 pub const BIAS_SLOTS: [usize; 6] = [0, 1, 2, 3, 4, 5];
 
@@ -26,7 +26,7 @@ pub const BIAS_SLOTS: [usize; 6] = [0, 1, 2, 3, 4, 5];
 pub enum ColumnId {
     /// Component `1` of catalogue kind `0` (1 SI unit).
     Effect(EffectKind, usize),
-    /// A paper coefficient (index into [`crate::columns::PARAM_SLOTS`], 1 SI unit).
+    /// A paper coefficient (index into `columns::PARAM_SLOTS`, 1 SI unit).
     Param(usize),
 }
 
@@ -50,7 +50,7 @@ pub struct RunSensitivity {
     /// Time constants of the turn-on transient columns (s).
     pub turn_on_taus_s: Vec<f64>,
     /// Full state at the first output time of a unit bias `e^{-(t - t0)/τ}` from the first
-    /// sample (`t0` = [`PassTimes::start_s`]) on each bias axis (gyro x, y, z, accelerometer
+    /// sample (`t0` = `PassTimes::start_s`) on each bias axis (gyro x, y, z, accelerometer
     /// x, y, z; rad/s or m/s²), through the alignment: `[axis][τ index]`.
     pub turn_on_states: Vec<Vec<Vec7>>,
     /// Twin noise: position covariance `[var N, var E, cov NE]` at each output time (m²).

@@ -8,7 +8,7 @@
 //! - [`segments`]: per-segment maxima over contiguous stretches of a label;
 //! - [`summary`]: the machine-readable results (`summary.json`) in the layout of the paper's
 //!   Table 5;
-//! - [`reference`]: the paper's Table 5 rows;
+//! - [`reference`](mod@reference): the paper's Table 5 rows;
 //! - [`config`]: the report configuration;
 //! - [`gate`]: thresholds, their evaluation and JUnit XML for CI systems; [`baseline`]: the
 //!   gate of a candidate release against a baseline over noise seeds, and [`gate_power`]: how

@@ -274,11 +274,11 @@ pub enum Quantity {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Rule {
-    /// (r[k-1] + r[k]) / 2 * dt: exact for a rate linear over the interval; the first record
+    /// `(r[k-1] + r[k]) / 2 * dt`: exact for a rate linear over the interval; the first record
     /// only opens the first interval.
     #[default]
     Trapezoid,
-    /// r[k] * dt: the output at k is the mean rate over the interval ending at k (a
+    /// `r[k] * dt`: the output at k is the mean rate over the interval ending at k (a
     /// sample-and-hold or box-car averaged output, as some datasheets state).
     Hold,
 }

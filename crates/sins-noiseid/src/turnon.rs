@@ -23,7 +23,7 @@
 //!
 //! The null is composite: the channel's own fit, its triad's pooled fit, and each with its
 //! Gauss-Markov variance at the 2-sigma upper end and its correlation time across its interval
-//! ([`plausible_nulls`]); a transient must beat every one of them (the smallest `Δχ²`), which
+//! (`plausible_nulls`); a transient must beat every one of them (the smallest `Δχ²`), which
 //! keeps the false-alarm rate at most the stated one whichever of them is the truth (Berger and
 //! Boos' p-value over a confidence set, with the set's own 2-sigma miss left out). Measured: a
 //! 15 h paper-noise navigation run (seed 101) whose gyro x fit locked onto a 26 s component

@@ -4,7 +4,7 @@
 //! centrifugal term). Intervals are split at segment boundaries; dwells are integrated in closed
 //! form, rotations and vibrations by Gauss-Legendre quadrature on each piece.
 //!
-//! Phases are computed from each piece's own start time with [`reduced_phase`] and advanced to
+//! Phases are computed from each piece's own start time with `trig::reduced_phase` and advanced to
 //! the nodes by the angle-addition formulas, so that neither the absolute time (hours) nor the
 //! node count perturbs the integrand: the quadrature error is the only approximation.
 

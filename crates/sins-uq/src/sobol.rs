@@ -2,7 +2,7 @@
 //! sensitivity analysis of model output", Comput. Phys. Commun. 181).
 //!
 //! Row `j` of matrix A is main sample `j` (already run); row `j` of matrix B is an independent
-//! draw ([`Slot::Resample`]); row `j` of `A_B^g` is A's row with the inputs of group `g` taken
+//! draw (`Slot::Resample`); row `j` of `A_B^g` is A's row with the inputs of group `g` taken
 //! from B's row. With `f` the cell's value and `V` the variance of `f` over A and B:
 //! - first order `S_g = mean(f(B) (f(A_B^g) - f(A))) / V` (Saltelli 2010, table 2 (b));
 //! - total `ST_g = mean((f(A) - f(A_B^g))^2) / (2 V)` (Jansen 1999).

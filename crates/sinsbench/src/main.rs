@@ -3,6 +3,10 @@
 //! crates (`sins-nav`, `sins-imu`, `sins-sim`, `sins-replay`), every file format in
 //! `sins-config` and `sins-data`.
 
+// The argument structs' doc comments are the commands' `--help` text, which names placeholders
+// as `<stem>`, `<run>`, `<NAME>`: plain text for clap, not HTML for rustdoc.
+#![allow(rustdoc::invalid_html_tags)]
+
 mod argcheck;
 mod bench;
 mod bench_import;
