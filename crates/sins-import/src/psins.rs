@@ -97,7 +97,7 @@ pub fn open(
         gyro_arcsec: [rows[2][0], rows[2][1], rows[2][2]],
         accel_ug_s: [rows[2][3], rows[2][4], rows[2][5]],
     };
-    if h.interval_ms.is_nan() || h.interval_ms <= 0.0 {
+    if !(h.interval_ms > 0.0) {
         return Err(ImportError::desc(
             file,
             "PSINS header line 2, sampling interval (ms)",
