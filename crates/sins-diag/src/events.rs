@@ -11,6 +11,11 @@
 //! - ramp of unit rate from `t_m`: `R_m = R_{m+1} + Δ (S_m + S_{m+1}) / 2` (trapezoid);
 //! - transient `e^{−(t − t_m)/τ}` (interval means `c d^k`, `d = e^{−Δ/τ}`,
 //!   `c = τ (1 − d)/Δ`): `T_m = c U_m`, `U_m = S_m − S_{m+1} + d U_{m+1}`;
+//! - pulse of unit level and duration `nΔ`: `P_m = S_m − S_{m+n}`;
+//! - ramp to a plateau of unit level, rising over `nΔ`: `L_m = (R_m − R_{m+n}) / (nΔ)`, kept as
+//!   a running window of the trapezoid's terms (`W_m = W_{m+1} + Δ (S_m + S_{m+1})/2 −
+//!   Δ (S_{m+n} + S_{m+n+1})/2`); a pulse or plateau that would end after the last fit time is
+//!   the step or the ramp already tested, and is not tested again;
 //! - turn-on transient (onset at the first sample, inside the alignment): the sensitivity pass
 //!   propagates `e^{−(t − t_0)/τ}` through the alignment replica to the first onset `t_1`
 //!   (state `Y_τ`); from there the error is carried by the model and the rest of the transient
@@ -31,8 +36,10 @@
 //! by a deterministic catalogue candidate when the gap less that candidate's fit (one magnitude
 //! for every run) leaves it insignificant.
 //!
-//! The onset's three-sigma interval holds the contiguous onsets whose `T` is within 9 of the
-//! maximum (profile likelihood); its one-sigma is a third of the interval's larger side, at
+//! A pulse's duration and a plateau's rise time are then refitted on the whole grid from half
+//! to twice the scanned one (see `duration`), and the onset's profile is the best `T` over
+//! them. The onset's three-sigma interval holds the contiguous onsets whose `T` is within 9 of
+//! the maximum (profile likelihood); its one-sigma is a third of the interval's larger side, at
 //! least the grid's `Δ/√12`. The detectable level of a shape
 //! at an onset is the magnitude detected with 90 % probability at the corrected level:
 //! `(√T_thr + 1.2816)/√(ŝᵀŝ)`.
@@ -47,6 +54,7 @@ use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 use sins_imu::EffectKind;
 
+mod duration;
 mod found;
 use found::{best, detectable_curves, event};
 
@@ -60,6 +68,10 @@ pub struct EventScanConfig {
     pub onset_every_s: usize,
     /// Time constants of the transients tried (s).
     pub time_constants_s: Vec<f64>,
+    /// Durations of the pulses tried (s, rounded to the onset grid).
+    pub pulse_durations_s: Vec<f64>,
+    /// Rise times of the ramps to a plateau tried (s, rounded to the onset grid).
+    pub plateau_rises_s: Vec<f64>,
     /// Events per run at most.
     pub max_events_per_run: usize,
     /// Family-wise false-alarm level of the scan (all runs, onsets, shapes and axes).
@@ -74,6 +86,8 @@ impl Default for EventScanConfig {
             enabled: true,
             onset_every_s: 120,
             time_constants_s: vec![300.0, 600.0, 1200.0, 2400.0, 4800.0, 9600.0],
+            pulse_durations_s: vec![600.0, 1200.0, 2400.0, 4800.0],
+            plateau_rises_s: vec![1200.0, 2400.0, 4800.0, 9600.0],
             max_events_per_run: 3,
             alpha: 1e-3,
             detectable_every_s: 3600.0,
@@ -95,6 +109,40 @@ pub enum Shape {
         /// Onset at turn-on (the first sample), not on the navigation grid.
         turn_on: bool,
     },
+    /// Bias pulse: a step up at the onset and back down `duration_s` later.
+    Pulse {
+        /// Duration (s, a whole number of onset-grid steps).
+        duration_s: f64,
+    },
+    /// Ramp from the onset to a plateau reached `rise_s` later; the size is the plateau's level.
+    Plateau {
+        /// Rise time (s, a whole number of onset-grid steps).
+        rise_s: f64,
+    },
+}
+
+impl EventScanConfig {
+    /// The distinct pulse durations in onset-grid steps, ascending.
+    pub(crate) fn pulse_steps(&self) -> Vec<usize> {
+        grid_steps(&self.pulse_durations_s, self.onset_every_s)
+    }
+
+    /// The distinct plateau rise times in onset-grid steps, ascending.
+    pub(crate) fn plateau_steps(&self) -> Vec<usize> {
+        grid_steps(&self.plateau_rises_s, self.onset_every_s)
+    }
+}
+
+/// `times_s` rounded to whole steps of `every_s` (at least one), distinct and ascending.
+fn grid_steps(times_s: &[f64], every_s: usize) -> Vec<usize> {
+    let mut n: Vec<usize> = times_s
+        .iter()
+        .filter(|t| t.is_finite() && **t > 0.0)
+        .map(|t| ((t / every_s.max(1) as f64).round() as usize).max(1))
+        .collect();
+    n.sort_unstable();
+    n.dedup();
+    n
 }
 
 impl Shape {
@@ -108,16 +156,31 @@ impl Shape {
             (Shape::Ramp, false) => EffectKind::AccelBiasRamp,
             (Shape::Transient { .. }, true) => EffectKind::GyroBiasTransient,
             (Shape::Transient { .. }, false) => EffectKind::AccelBiasTransient,
+            (Shape::Pulse { .. }, true) => EffectKind::GyroBiasPulse,
+            (Shape::Pulse { .. }, false) => EffectKind::AccelBiasPulse,
+            (Shape::Plateau { .. }, true) => EffectKind::GyroBiasPlateau,
+            (Shape::Plateau { .. }, false) => EffectKind::AccelBiasPlateau,
         }
     }
 
-    /// `step`, `ramp`, `transient` or `turn-on transient`.
+    /// `step`, `ramp`, `transient`, `turn-on transient`, `pulse` or `plateau`.
     pub fn label(self) -> &'static str {
         match self {
             Shape::Step => "step",
             Shape::Ramp => "ramp",
             Shape::Transient { turn_on: false, .. } => "transient",
             Shape::Transient { turn_on: true, .. } => "turn-on transient",
+            Shape::Pulse { .. } => "pulse",
+            Shape::Plateau { .. } => "plateau",
+        }
+    }
+
+    /// A pulse's duration or a plateau's rise time (s).
+    pub(crate) fn duration_s(self) -> Option<f64> {
+        match self {
+            Shape::Pulse { duration_s } => Some(duration_s),
+            Shape::Plateau { rise_s } => Some(rise_s),
+            _ => None,
         }
     }
 
@@ -160,6 +223,9 @@ pub struct TimeLocalEvent {
     pub unit: String,
     /// Time constant of a transient (s).
     pub time_constant_s: Option<f64>,
+    /// Duration of a pulse, rise time of a plateau (s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration_s: Option<f64>,
     /// `(ŝᵀr̂)²/ŝᵀŝ`: chi-square of one degree of freedom.
     pub chi2: f64,
     /// Tail probability corrected for the number of tests (Bonferroni).
@@ -182,6 +248,9 @@ pub struct ChannelAlternative {
     pub shape: String,
     /// Time constant of that signal if a transient (s).
     pub time_constant_s: Option<f64>,
+    /// Duration of that signal if a pulse, rise time if a plateau (s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration_s: Option<f64>,
     /// Its `T` against the same residual.
     pub chi2: f64,
 }
@@ -197,6 +266,9 @@ pub struct DetectableCurve {
     pub shape: String,
     /// Time constant of a transient (s).
     pub time_constant_s: Option<f64>,
+    /// Duration of a pulse, rise time of a plateau (s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration_s: Option<f64>,
     /// Unit of the levels.
     pub unit: String,
     /// Onsets (s).
@@ -292,8 +364,8 @@ pub(crate) struct AxisSignals {
 pub(crate) type Visitor<'a> = dyn FnMut(Shape, usize, &DVector<f64>) + 'a;
 
 impl AxisSignals {
-    /// Every signal of the axis: steps, ramps and transients at each onset (last onset first),
-    /// then the turn-on transients.
+    /// Every signal of the axis: steps, ramps, transients, pulses and plateaus at each onset
+    /// (last onset first), then the turn-on transients.
     pub(crate) fn visit(
         &self,
         onset_s: &[f64],
@@ -322,6 +394,9 @@ impl AxisSignals {
         let mut ramp = zero.clone();
         let mut u: Vec<DVector<f64>> = vec![zero.clone(); taus.len()];
         let mut next = zero.clone();
+        let pulses = cfg.pulse_steps();
+        let rises = cfg.plateau_steps();
+        let mut window: Vec<DVector<f64>> = vec![zero.clone(); rises.len()];
         for m in (0..k).rev() {
             let here = col(m);
             f(Shape::Step, m, &here);
@@ -338,6 +413,19 @@ impl AxisSignals {
                     m,
                     &(&u[i] * c),
                 );
+            }
+            for &n in &pulses {
+                if m + n < k {
+                    let duration_s = n as f64 * dt;
+                    f(Shape::Pulse { duration_s }, m, &(&here - col(m + n)));
+                }
+            }
+            for (w, &n) in window.iter_mut().zip(&rises) {
+                *w += (&here + &next - col(m + n) - col(m + n + 1)) * (0.5 * dt);
+                if m + n < k {
+                    let rise_s = n as f64 * dt;
+                    f(Shape::Plateau { rise_s }, m, &(&*w / rise_s));
+                }
             }
             next = here;
         }
@@ -610,7 +698,9 @@ impl Accumulated {
             if b.t < thr {
                 break;
             }
-            self.out.events.push(event(p, &nuis, &b, tests, thr, cfg));
+            let (b, profile) = duration::refit(p, &nuis, b, cfg);
+            let e = event(p, &nuis, &b, profile, (tests, thr), cfg);
+            self.out.events.push(e);
             self.signals.push(EventSignal {
                 run: ri,
                 contribution: p.whitener.colour(&(&b.signal * (b.a / b.b))),
@@ -622,7 +712,13 @@ impl Accumulated {
 
 /// The number of signals [`scan`] tests on a run (what [`AxisSignals::visit`] hands out).
 pub(crate) fn planned_tests(r: &ScanRun<'_>, cfg: &EventScanConfig) -> Result<usize, DiagError> {
-    let k = onset_grid(r.sens, cfg)?.2.len();
+    Ok(6 * signals_per_axis(onset_grid(r.sens, cfg)?.2.len(), cfg))
+}
+
+/// The signals [`AxisSignals::visit`] hands out on an axis with `k` onsets.
+pub(crate) fn signals_per_axis(k: usize, cfg: &EventScanConfig) -> usize {
     let n = cfg.time_constants_s.len();
-    Ok(6 * (k * (2 + n) + if k > 0 { n } else { 0 }))
+    let ending = |steps: Vec<usize>| steps.iter().map(|&s| k.saturating_sub(s)).sum::<usize>();
+    let turn_on = if k > 0 { n } else { 0 };
+    k * (2 + n) + turn_on + ending(cfg.pulse_steps()) + ending(cfg.plateau_steps())
 }

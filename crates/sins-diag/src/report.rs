@@ -187,15 +187,16 @@ pub struct TimeCourseAlternative {
     pub channel: String,
     /// The run it acts in, or `all runs` (one time course on every run's time axis).
     pub runs: String,
-    /// `step`, `ramp`, `transient`, `turn-on transient` or `oscillation`.
+    /// `step`, `ramp`, `transient`, `turn-on transient`, `pulse`, `plateau` or `oscillation`.
     pub shape: String,
     /// Onset (s on the run's time axis; navigation start for an oscillation).
     pub onset_s: f64,
-    /// Time constant of a transient, or period of an oscillation (s).
+    /// Time constant of a transient, duration of a pulse, rise time of a plateau, or period of
+    /// an oscillation (s).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time_s: Option<f64>,
-    /// Size in `unit` (a step's jump, a ramp's rate, a transient's value at onset, an
-    /// oscillation's amplitude of its sine or cosine part).
+    /// Size in `unit` (a step's jump, a ramp's rate, a transient's value at onset, a pulse's or
+    /// a plateau's level, an oscillation's amplitude of its sine or cosine part).
     pub size: f64,
     /// Unit of the size.
     pub unit: String,

@@ -2,10 +2,11 @@
 //! twin alone is fitted with time courses outside the catalogue: steps, ramps and transients
 //! with a free onset, turn-on transients and oscillations from the start of navigation, on
 //! any of the six channels, in one run or common to every run (one time course on every run's
-//! time axis, as an effect of the chamber's history would be). Signals are taken greedily,
-//! strongest first, while each is significant against the Bonferroni threshold of the whole
-//! family (`alpha` of the event scan), up to [`MAX_RIVAL_SIGNALS`]; a ramp to a plateau, a
-//! pulse or a slow oscillation is fitted as two or more of them.
+//! time axis, as an effect of the chamber's history would be); pulses and ramps to a plateau
+//! of the scan's durations. Signals are taken greedily, strongest first, while each is
+//! significant against the Bonferroni threshold of the whole family (`alpha` of the event
+//! scan), up to [`MAX_RIVAL_SIGNALS`]; other durations and slow oscillations are fitted as two
+//! or more of them.
 //!
 //! The two explanations are then tested on top of each other (nested models, joint fits on
 //! the stacked whitened runs):
@@ -25,7 +26,7 @@
 //! when it still passes on the gap less their joint fit.
 
 use crate::error::DiagError;
-use crate::events::{AXES, EventScanConfig, EventSignal, Prepared, Shape};
+use crate::events::{AXES, EventScanConfig, EventSignal, Prepared, Shape, signals_per_axis};
 use crate::input::DiagnoseConfig;
 use crate::problem::RunFitData;
 use crate::rank::{Evaluated, Layout, NullDist, evaluate};
@@ -95,6 +96,14 @@ fn visit_axis(
 /// Index of a form in the stats table.
 fn form_index(form: Form, cfg: &EventScanConfig) -> usize {
     let n = cfg.time_constants_s.len();
+    let pulses = cfg.pulse_steps();
+    let dt = cfg.onset_every_s.max(1) as f64;
+    let grid = |steps: &[usize], t: f64| {
+        steps
+            .iter()
+            .position(|&s| s == (t / dt).round() as usize)
+            .unwrap_or(0)
+    };
     let tau = |t: f64| {
         cfg.time_constants_s
             .iter()
@@ -107,14 +116,24 @@ fn form_index(form: Form, cfg: &EventScanConfig) -> usize {
         Form::Event(Shape::Transient { tau_s, turn_on }) => {
             2 + tau(tau_s) + if turn_on { n } else { 0 }
         }
+        Form::Event(Shape::Pulse { duration_s }) => 2 + 2 * n + grid(&pulses, duration_s),
+        Form::Event(Shape::Plateau { rise_s }) => {
+            2 + 2 * n + pulses.len() + grid(&cfg.plateau_steps(), rise_s)
+        }
         Form::Sine { period_s, cosine } => {
             let j = OSCILLATION_PERIODS_S
                 .iter()
                 .position(|&x| x == period_s)
                 .unwrap_or(0);
-            2 + 2 * n + 2 * j + usize::from(cosine)
+            event_forms(cfg) + 2 * j + usize::from(cosine)
         }
     }
+}
+
+/// The forms of the event scan's shapes (steps, ramps, transients and turn-on transients,
+/// pulses, plateaus); the oscillations come after them.
+fn event_forms(cfg: &EventScanConfig) -> usize {
+    2 + 2 * cfg.time_constants_s.len() + cfg.pulse_steps().len() + cfg.plateau_steps().len()
 }
 
 /// Per run and signal: `sᵀr`, `sᵀs` and `sᵀq_j` for the current nuisance directions.
@@ -136,7 +155,7 @@ impl Table {
 }
 
 fn fill(st: &Stacked, q: &[DVector<f64>], r: &DVector<f64>, cfg: &EventScanConfig) -> Table {
-    let forms = 2 + 2 * cfg.time_constants_s.len() + 2 * OSCILLATION_PERIODS_S.len();
+    let forms = event_forms(cfg) + 2 * OSCILLATION_PERIODS_S.len();
     let kmax = st
         .runs
         .iter()
@@ -248,8 +267,7 @@ fn signal(st: &Stacked, pick: &Pick, cfg: &EventScanConfig) -> DVector<f64> {
 
 /// Signals in the family: every run's and the common ones.
 fn family(st: &Stacked, cfg: &EventScanConfig) -> usize {
-    let n = cfg.time_constants_s.len();
-    let per = |k: usize| 6 * (k * (2 + n) + n + 2 * OSCILLATION_PERIODS_S.len());
+    let per = |k: usize| 6 * (signals_per_axis(k, cfg) + 2 * OSCILLATION_PERIODS_S.len());
     let runs: usize = st.runs.iter().map(|p| per(p.onset_s.len())).sum();
     runs + if st.runs.len() > 1 {
         per(st.common_onsets)
@@ -329,7 +347,7 @@ fn describe(st: &Stacked, p: &Pick, size_si: f64) -> TimeCourseAlternative {
                 Shape::Transient { turn_on: true, .. } => run0.start_s,
                 _ => run0.onset_s[p.m],
             },
-            shape.tau_s(),
+            shape.tau_s().or(shape.duration_s()),
         ),
         Form::Sine { period_s, cosine } => (
             if gyro {

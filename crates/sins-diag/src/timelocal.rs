@@ -5,8 +5,8 @@
 use crate::candidates::RegressionFit;
 use crate::error::DiagError;
 use crate::events::{
-    EventScan, EventSignal, Prepared, ScanRun, TimeLocalEvent, chi2_with, scan_prepared,
-    scan_with_signals,
+    DetectableCurve, EventScan, EventSignal, Prepared, ScanRun, TimeLocalEvent, chi2_with,
+    scan_prepared, scan_with_signals,
 };
 use crate::input::DiagnoseConfig;
 use crate::problem::{Problem, RunFitData};
@@ -251,20 +251,27 @@ pub(crate) fn with_events(
         .filter(|e| e.explained_by.is_none())
         .collect();
     if events.tests > 0 {
-        notes.push(format!(
-            "time-local scan: {} tests (steps, ramps, transients of {:?} s on six axes, every \
-             onset), Bonferroni threshold chi2 {:.1}; {} event(s), {} outside the catalogue",
-            events.tests,
+        let distinct = |shape: &str, time: fn(&DetectableCurve) -> Option<f64>| {
             events
                 .detectable
                 .iter()
-                .filter_map(|d| d.time_constant_s)
+                .filter(|d| d.shape == shape)
+                .filter_map(time)
                 .fold(Vec::<f64>::new(), |mut v, t| {
                     if !v.contains(&t) {
                         v.push(t);
                     }
                     v
-                }),
+                })
+        };
+        notes.push(format!(
+            "time-local scan: {} tests (steps, ramps, transients of {:?} s, pulses of {:?} s, \
+             ramps to a plateau rising over {:?} s, on six axes, every onset), Bonferroni \
+             threshold chi2 {:.1}; {} event(s), {} outside the catalogue",
+            events.tests,
+            distinct("transient", |d| d.time_constant_s),
+            distinct("pulse", |d| d.duration_s),
+            distinct("plateau", |d| d.duration_s),
             events.threshold_chi2,
             events.events.len(),
             outside.len()

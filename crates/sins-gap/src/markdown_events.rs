@@ -9,13 +9,13 @@ use std::fmt::Write as _;
 pub fn render_events(scan: &EventScan) -> String {
     let mut md = String::from("\n### Effects local in time\n\n");
     if scan.tests == 0 {
-        md.push_str("The scan for steps, ramps and transients was off.\n");
+        md.push_str("The scan for steps, ramps, transients, pulses and plateaus was off.\n");
         return md;
     }
     let _ = writeln!(
         md,
-        "A likelihood-ratio scan over onset time for bias steps, ramps and exponential \
-         transients on each sensor axis of each run, against the winner's fit (or the twin): \
+        "A likelihood-ratio scan over onset time for bias steps, ramps, exponential \
+         transients, pulses and ramps to a plateau on each sensor axis of each run, against the winner's fit (or the twin): \
          {} tests, Bonferroni threshold χ² = {:.1}. An event no catalogue term explains is an \
          effect outside the catalogue. Onset ± 1σ from the profile likelihood (3σ interval: the \
          onsets within Δχ² = 9 of the best). \"not told from\" lists the other channels whose best \
@@ -31,7 +31,7 @@ pub fn render_events(scan: &EventScan) -> String {
             "shape",
             "onset ± 1σ (s)",
             "size ± 1σ",
-            "τ (s)",
+            "τ or duration (s)",
             "χ²",
             "p",
             "explained by",
@@ -44,7 +44,9 @@ pub fn render_events(scan: &EventScan) -> String {
                 e.shape.clone(),
                 format!("{:.0} ± {:.0}", e.onset_s, e.onset_sigma_s),
                 format!("{:.3e} ± {:.1e} {}", e.size, e.size_sigma, e.unit),
-                e.time_constant_s.map_or("-".into(), |t| format!("{t:.0}")),
+                e.time_constant_s
+                    .or(e.duration_s)
+                    .map_or("-".into(), |t| format!("{t:.0}")),
                 format!("{:.1}", e.chi2),
                 format!("{:.1e}", e.p_value),
                 e.explained_by
@@ -131,6 +133,7 @@ mod tests {
             channel: channel.into(),
             shape: shape.into(),
             time_constant_s: tau,
+            duration_s: None,
             unit: "deg/h".into(),
             onset_s: vec![1080.0, 4680.0],
             level: vec![level, level],

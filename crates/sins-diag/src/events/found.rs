@@ -68,6 +68,7 @@ fn alternatives(b: &Best) -> Vec<ChannelAlternative> {
             channel: AXES[axis].to_string(),
             shape: shape.label().to_string(),
             time_constant_s: shape.tau_s(),
+            duration_s: shape.duration_s(),
             chi2: t,
         })
         .collect();
@@ -75,25 +76,30 @@ fn alternatives(b: &Best) -> Vec<ChannelAlternative> {
     out
 }
 
-/// The event `b` of run `p`.
+/// The event `b` of run `p`; `profile`: `T` along the onsets when the caller has it (a
+/// duration profiled out), else that of `b`'s shape; `(tests, thr)`: the family's size and
+/// its corrected threshold.
 pub(super) fn event(
     p: &Prepared,
     nuis: &Nuisance,
     b: &Best,
-    tests: usize,
-    thr: f64,
+    profile: Option<Vec<f64>>,
+    (tests, thr): (usize, f64),
     cfg: &EventScanConfig,
 ) -> TimeLocalEvent {
     // T along the onsets of the event's shape and axis.
-    let mut tm = vec![0.0; p.onset_s.len()];
-    if let Some(ax) = p.axes.iter().find(|a| a.axis == b.axis) {
-        ax.visit(&p.onset_s, p.start_s, cfg, &mut |shape, m, sig| {
-            if shape == b.shape {
-                let (a, bb) = nuis.stat(sig.as_slice());
-                tm[m] = if bb > 0.0 { a * a / bb } else { 0.0 };
-            }
-        });
-    }
+    let tm = profile.unwrap_or_else(|| {
+        let mut tm = vec![0.0; p.onset_s.len()];
+        if let Some(ax) = p.axes.iter().find(|a| a.axis == b.axis) {
+            ax.visit(&p.onset_s, p.start_s, cfg, &mut |shape, m, sig| {
+                if shape == b.shape {
+                    let (a, bb) = nuis.stat(sig.as_slice());
+                    tm[m] = if bb > 0.0 { a * a / bb } else { 0.0 };
+                }
+            });
+        }
+        tm
+    });
     let onset_s = p.onset_of(b.shape, b.m);
     let (onset_sigma_s, onset_interval_s) = match b.shape {
         // The turn-on is known: the first sample.
@@ -154,6 +160,7 @@ pub(super) fn event(
         size_sigma: unit.from_si(1.0 / b.b.sqrt()),
         unit: unit.label.to_string(),
         time_constant_s: b.shape.tau_s(),
+        duration_s: b.shape.duration_s(),
         chi2: b.t,
         p_value: (chi2_sf(b.t, 1.0) * tests as f64).min(1.0),
         explained_by,
@@ -199,6 +206,7 @@ pub(super) fn detectable_curves(
                             channel: AXES[ax.axis].to_string(),
                             shape: shape.label().to_string(),
                             time_constant_s: shape.tau_s(),
+                            duration_s: shape.duration_s(),
                             unit: unit.label.to_string(),
                             onset_s: Vec::new(),
                             level: Vec::new(),

@@ -146,6 +146,7 @@ fn event(run: &str, channel: &str, onset_s: f64, sigma_s: f64) -> TimeLocalEvent
         size_sigma: 0.001,
         unit: "deg/h".into(),
         time_constant_s: None,
+        duration_s: None,
         chi2: 100.0,
         p_value: 1e-10,
         explained_by: None,
@@ -198,6 +199,7 @@ fn time_local_cases_need_their_channel_run_and_onset() {
                 channel: "gyro y".into(),
                 shape: "step".into(),
                 time_constant_s: None,
+                duration_s: None,
                 chi2: 95.0,
             });
             with(vec![e])

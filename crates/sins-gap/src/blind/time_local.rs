@@ -1,6 +1,6 @@
-//! Grading the time-local cases: was the hidden step, ramp or transient reported as an event
-//! on its channel (and run), with the onset within three sigma of the truth; and the null
-//! cases' time-local false alarms.
+//! Grading the time-local cases: was the hidden step, ramp, transient, pulse, plateau or
+//! oscillation reported as an event on its channel (and run), with the onset within three
+//! sigma of the truth; and the null cases' time-local false alarms.
 
 use super::plan::{CaseAnswer, HiddenEffect};
 use serde::Serialize;
@@ -64,21 +64,26 @@ fn shape(h: &HiddenEffect, kind: EffectKind) -> &'static str {
 }
 
 /// The detectable level of the hidden effect: the curve of its run, channel and shape (the
-/// transient's nearest time constant), at the onset nearest its own; the smallest over the runs
-/// it acts on.
+/// transient's nearest time constant, the pulse's nearest duration, the plateau's nearest rise
+/// time), at the onset nearest its own; the smallest over the runs it acts on.
 fn detectable(h: &HiddenEffect, ch: &str, sh: &str, curves: &[DetectableCurve]) -> Option<f64> {
-    let tau = h.time_constant_s.unwrap_or(1.0);
+    let timed = |c: &DetectableCurve| c.time_constant_s.or(c.duration_s);
+    let time = match sh {
+        "pulse" | "plateau" => h.duration_s,
+        _ => h.time_constant_s,
+    }
+    .unwrap_or(1.0);
     let matching: Vec<&DetectableCurve> = curves
         .iter()
         .filter(|c| c.channel == ch && c.shape == sh && h.acts_on(&c.run))
         .collect();
-    let best_tau = matching
+    let best_time = matching
         .iter()
-        .filter_map(|c| c.time_constant_s)
-        .min_by(|a, b| (a / tau).ln().abs().total_cmp(&(b / tau).ln().abs()));
+        .filter_map(|c| timed(c))
+        .min_by(|a, b| (a / time).ln().abs().total_cmp(&(b / time).ln().abs()));
     matching
         .iter()
-        .filter(|c| c.time_constant_s == best_tau)
+        .filter(|c| timed(c) == best_time)
         .filter_map(|c| {
             let onset = h.onset_time_s();
             c.onset_s
@@ -116,14 +121,11 @@ pub fn grade_case(a: &CaseAnswer, d: &Diagnosis) -> Option<TimeLocalGrade> {
     let onset_within_3_sigma = event
         .as_ref()
         .is_some_and(|e| (e.onset_s - truth).abs() <= 3.0 * e.onset_sigma_s + 1e-9);
-    // The scan has no plateau, pulse or oscillation: those are graded against the step's
-    // level at their onset (a lower bound on their detectable size: a plateau reaches its
-    // level later, a pulse and an oscillation hold it for less time).
-    let scanned = match sh {
-        "plateau" | "pulse" | "decaying oscillation" => "step",
-        s => s,
-    };
-    let detectable = detectable(h, &ch, scanned, &d.events.detectable);
+    // A pulse and a plateau have curves of their own (a diagnosis from before the scan had
+    // them has none); an oscillation is graded against the step's level at its onset (a
+    // lower bound on its detectable size: it holds that level for less time).
+    let detectable = detectable(h, &ch, sh, &d.events.detectable)
+        .or_else(|| detectable(h, &ch, "step", &d.events.detectable));
     Some(TimeLocalGrade {
         onset_graded: !h.calibration_only(),
         shape_right: event.as_ref().is_some_and(|e| e.shape == sh),
