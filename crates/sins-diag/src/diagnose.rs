@@ -18,7 +18,8 @@ use crate::rank::{
 };
 use crate::refine::{RefineStart, Refinement, refine};
 use crate::report::{
-    ChiSquareTest, Confound, Diagnosis, RunLocalisation, TimeCourseAlternative, Verdict,
+    ChiSquareTest, Confound, Diagnosis, Note, NoteKind, RunLocalisation, TimeCourseAlternative,
+    Verdict,
 };
 use crate::rival::{JudgeScope, challenge, named};
 use crate::sensitivity::RunSensitivity;
@@ -44,12 +45,12 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
     let kinds = cfg.candidate_kinds().map_err(|e| DiagError::input("", e))?;
     // The twin: sensitivities, noise covariance, the calibration run's absorption.
     let mut sens = sensitivities(input, cfg, &kinds)?;
-    let mut notes = vec![
+    let mut notes = vec![Note::new(
+        NoteKind::Twin,
         "twin mean = error-free floor (zero unless given); twin spread = sensor noise (white + \
          Gauss-Markov biases, linear covariance through the alignment) + calibration one-sigma \
-         (independent coefficients, common to all runs) + a white floor"
-            .to_string(),
-    ];
+         (independent coefficients, common to all runs) + a white floor",
+    )];
     notes.extend(grid_note);
     let cat = catalogue(&kinds);
     let absorption = calibration_absorption(input, cfg, &cat.layouts, &mut sens, &mut notes)?;
@@ -59,7 +60,10 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         input.param_covariance.as_deref(),
     )?;
     if pu.is_none() {
-        notes.push("no calibration uncertainty given: calibration errors ignored".into());
+        notes.push(Note::new(
+            NoteKind::CalibrationUncertainty,
+            "no calibration uncertainty given: calibration errors ignored",
+        ));
     }
     // The gaps, the null test and the catalogue's ranking.
     let (mut series, mut data) = gaps(input, &sens, pu.as_ref(), &cat.columns, cfg)?;
@@ -74,7 +78,7 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
     if let Some(u) = add_unresolved_walks(&mut data, &input.noise, cfg.null_alpha, leading_fit)? {
         // The catalogue ranked again with the walks in the twin, whose envelope they widen.
         ranking = rank_catalogue(&data, &cat, floor_var, cfg)?;
-        notes.push(u.note());
+        notes.push(Note::new(NoteKind::UnresolvedWalks, u.note()));
         let index: Vec<&[usize]> = sens.iter().map(|s| s.times.fit_index.as_slice()).collect();
         widen_envelopes(&mut series, &data, &index, &u);
     }
@@ -203,7 +207,7 @@ impl Challenge<'_> {
         stacked: Option<&mut Stacked>,
         ranked: &[Evaluated],
         cfg: &DiagnoseConfig,
-        notes: &mut Vec<String>,
+        notes: &mut Vec<Note>,
     ) -> Result<(Verdict, Vec<TimeCourseAlternative>, Vec<Confound>), DiagError> {
         let Some(stacked) = stacked else {
             return Ok((verdict, Vec::new(), Vec::new()));
@@ -229,11 +233,17 @@ impl Challenge<'_> {
         );
         let names_cause = !named(&verdict).is_empty();
         if let Some(left) = self.left.as_ref().filter(|t| t.consistent && names_cause) {
-            notes.push(format!(
+            let text = format!(
                 "the time-local events outside the catalogue leave no significant gap (chi2 \
                  {:.1} for {:.1} expected, p {:.2}): the catalogue gets no credit",
                 left.chi2, left.dof, left.p_value
-            ));
+            );
+            notes.push(
+                Note::new(NoteKind::NoCredit, text)
+                    .figure("chi2", left.chi2)
+                    .figure("dof", left.dof)
+                    .figure("p_value", left.p_value),
+            );
             return Ok((Verdict::Unexplained, Vec::new(), confound));
         }
         if !names_cause {
@@ -275,18 +285,19 @@ fn refined_runs<'a>(r: &'a Refinement, sens: &'a [RunSensitivity]) -> Vec<ScanRu
 }
 
 /// The note on the catalogue ranked again without the time-local events outside it.
-fn ranked_again_note(events: &EventScan, before: &[Evaluated], after: &[Evaluated]) -> String {
+fn ranked_again_note(events: &EventScan, before: &[Evaluated], after: &[Evaluated]) -> Note {
     let outside = events
         .events
         .iter()
         .filter(|e| e.explained_by.is_none())
         .count();
-    format!(
+    let text = format!(
         "catalogue ranked again on the gap less the {outside} time-local event(s) outside it: the \
          leader was {}, it is now {}",
         leader(before),
         leader(after)
-    )
+    );
+    Note::new(NoteKind::TimeLocal, text).figure("events_outside", outside as f64)
 }
 
 /// Refuse a request the stages cannot serve.
@@ -314,7 +325,7 @@ pub const MAX_FIT_TIMES_PER_RUN: usize = 1024;
 /// the longest run (navigating `span_s` seconds) would have more than
 /// [`MAX_FIT_TIMES_PER_RUN`] fit times, so that the cost per sample of a diagnosis stays flat
 /// with the length of the runs; and the note saying so.
-fn grid_for_duration(cfg: &DiagnoseConfig, span_s: f64) -> (DiagnoseConfig, Option<String>) {
+fn grid_for_duration(cfg: &DiagnoseConfig, span_s: f64) -> (DiagnoseConfig, Option<Note>) {
     let fit_times = span_s / cfg.fit_interval_s.max(1) as f64;
     let factor = (fit_times / MAX_FIT_TIMES_PER_RUN as f64).ceil() as usize;
     if factor <= 1 {
@@ -323,7 +334,7 @@ fn grid_for_duration(cfg: &DiagnoseConfig, span_s: f64) -> (DiagnoseConfig, Opti
     let mut coarse = cfg.clone();
     coarse.fit_interval_s *= factor;
     coarse.events.onset_every_s *= factor;
-    let note = format!(
+    let text = format!(
         "the longest run navigates {:.1} h: the fit grid is every {} s and the time-local scan's \
          onsets every {} s ({factor} times the configured grid), so that no run has more than \
          {MAX_FIT_TIMES_PER_RUN} fit times (the dense twin covariance costs the cube of their \
@@ -332,6 +343,9 @@ fn grid_for_duration(cfg: &DiagnoseConfig, span_s: f64) -> (DiagnoseConfig, Opti
         coarse.fit_interval_s,
         coarse.events.onset_every_s
     );
+    let note = Note::new(NoteKind::Twin, text)
+        .figure("fit_interval_s", coarse.fit_interval_s as f64)
+        .figure("onset_every_s", coarse.events.onset_every_s as f64);
     (coarse, Some(note))
 }
 
@@ -375,7 +389,7 @@ fn refine_leaders(
     cfg: &DiagnoseConfig,
     st: &RefineStage<'_>,
     ranked: &mut [Evaluated],
-    notes: &mut Vec<String>,
+    notes: &mut Vec<Note>,
 ) -> Vec<Refinement> {
     let ctx = st.ctx;
     // Candidates are taken by chi-square drop among the significant ones, not by evidence:
@@ -419,7 +433,7 @@ fn refine_leaders(
         };
         match refine(input, cfg, &setup, &start) {
             Ok(Some(r)) => {
-                notes.push(format!(
+                let text = format!(
                     "{}: refined by {} Gauss-Newton step(s) on the runs replayed with the fitted \
                      effect removed ({}; residual chi-square {:.1} -> {:.1})",
                     l.kind.name(),
@@ -433,13 +447,26 @@ fn refine_leaders(
                     },
                     ctx.chi0 - rf.fit.dchi2,
                     ctx.chi0 - r.rf.fit.dchi2,
-                ));
+                );
+                notes.push(
+                    Note::new(NoteKind::Refinement, text)
+                        .subject(l.kind.name())
+                        .figure("steps", r.steps as f64)
+                        .figure("chi2_before", ctx.chi0 - rf.fit.dchi2)
+                        .figure("chi2_after", ctx.chi0 - r.rf.fit.dchi2),
+                );
                 best_residual = best_residual.min(ctx.chi0 - r.rf.fit.dchi2);
                 ranked[i] = regression_evaluated(&l, r.rf.clone(), ctx, st.dist, cfg);
                 refinements.push(r);
             }
             Ok(None) => {}
-            Err(e) => notes.push(format!("{}: refinement failed ({e})", l.kind.name())),
+            Err(e) => notes.push(
+                Note::new(
+                    NoteKind::Refinement,
+                    format!("{}: refinement failed ({e})", l.kind.name()),
+                )
+                .subject(l.kind.name()),
+            ),
         }
     }
     refinements
@@ -496,6 +523,6 @@ mod tests {
                 .is_multiple_of(coarse.output_interval_s)
         );
         assert!(span_s / coarse.fit_interval_s as f64 <= MAX_FIT_TIMES_PER_RUN as f64);
-        assert!(note.is_some_and(|n| n.contains("every 600 s")));
+        assert!(note.is_some_and(|n| n.text.contains("every 600 s")));
     }
 }

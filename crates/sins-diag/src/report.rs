@@ -343,8 +343,8 @@ pub struct Diagnosis {
     pub validation: Vec<ValidationReport>,
     /// Series for plots.
     pub series: Vec<RunSeries>,
-    /// Notes on assumptions and anything skipped.
-    pub notes: Vec<String>,
+    /// Notes on assumptions, decisions and anything skipped, typed (see [`Note`]).
+    pub notes: Vec<Note>,
     /// The time-local scan: events (steps, ramps, transients with their onset) and the
     /// detectable levels through each run.
     #[serde(default)]
@@ -383,4 +383,99 @@ pub struct Confound {
     pub with_reversed_run: f64,
     /// The run the extra runs are modelled on (the longest).
     pub like_run: String,
+}
+
+/// What a [`Note`] of the diagnosis is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NoteKind {
+    /// The twin's assumptions: its mean, its spread, the fit grid of a long run.
+    Twin,
+    /// The calibration run's absorption of the candidates, or its absence.
+    CalibrationAbsorption,
+    /// The calibration uncertainty (none given).
+    CalibrationUncertainty,
+    /// Slow noise the identification left open, fitted on the gap and carried by the twin.
+    UnresolvedWalks,
+    /// A leading candidate refined in its own linearisation, or the refinement's failure.
+    Refinement,
+    /// The time-local scan: its family, its events, a walk refused for absorbing them, the
+    /// catalogue ranked again without them.
+    TimeLocal,
+    /// The located events leave no significant gap: the catalogue gets no credit.
+    NoCredit,
+    /// The rival time courses and what the nested tests concluded.
+    Rivals,
+    /// From the noise identification the twin's noise came from (motion left out, bias
+    /// changes, a model inconsistent with its data).
+    NoiseIdentification,
+}
+
+/// A named figure a [`Note`] quotes, in the unit its name carries (`_s`, `chi2`, `p_value`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Figure {
+    /// Name, with the unit as a suffix where it has one.
+    pub name: String,
+    /// Value.
+    pub value: f64,
+}
+
+/// One note of a diagnosis: its kind, the run and channel it concerns (when one), the figures
+/// it quotes, and its text for a reader. The Markdown report prints the text; the JSON keeps
+/// the rest for a program.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Note {
+    /// What it is about.
+    pub kind: NoteKind,
+    /// The run it concerns, if one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub run: Option<String>,
+    /// The channel or candidate it concerns, if one (`gyro x`, `gyro_bias_random_walk`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub subject: Option<String>,
+    /// The figures the text quotes.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub figures: Vec<Figure>,
+    /// The note as a sentence.
+    pub text: String,
+}
+
+impl Note {
+    /// A note of `kind` with `text` and nothing else.
+    pub fn new(kind: NoteKind, text: impl Into<String>) -> Self {
+        Self {
+            kind,
+            run: None,
+            subject: None,
+            figures: Vec::new(),
+            text: text.into(),
+        }
+    }
+
+    /// With the run it concerns.
+    pub fn run(mut self, run: impl Into<String>) -> Self {
+        self.run = Some(run.into());
+        self
+    }
+
+    /// With the channel or candidate it concerns.
+    pub fn subject(mut self, subject: impl Into<String>) -> Self {
+        self.subject = Some(subject.into());
+        self
+    }
+
+    /// With a figure it quotes.
+    pub fn figure(mut self, name: &str, value: f64) -> Self {
+        self.figures.push(Figure {
+            name: name.to_string(),
+            value,
+        });
+        self
+    }
+}
+
+impl std::fmt::Display for Note {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.text)
+    }
 }

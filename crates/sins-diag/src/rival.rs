@@ -30,7 +30,7 @@ use crate::events::{AXES, EventScanConfig, EventSignal, Prepared, Shape, signals
 use crate::input::DiagnoseConfig;
 use crate::problem::RunFitData;
 use crate::rank::{Evaluated, Layout, NullDist, evaluate};
-use crate::report::{TimeCourseAlternative, Verdict};
+use crate::report::{Note, NoteKind, TimeCourseAlternative, Verdict};
 use crate::stacked::Stacked;
 use crate::stats::chi2_isf;
 use crate::timelocal::without_events;
@@ -540,7 +540,7 @@ pub(crate) fn challenge(
     ranked: &[Evaluated],
     sc: &JudgeScope<'_>,
     cfg: &DiagnoseConfig,
-    notes: &mut Vec<String>,
+    notes: &mut Vec<Note>,
 ) -> Result<(Verdict, Vec<TimeCourseAlternative>), DiagError> {
     let causes = named(&verdict);
     let Some(leader) = ranked
@@ -562,7 +562,7 @@ pub(crate) fn challenge(
         .collect::<Vec<_>>()
         .join("; ");
     let judgement = judge(st, &fit, leader, sc, cfg)?;
-    notes.push(format!(
+    let text = format!(
         "rival time courses ({} signals tested, threshold chi2 {:.1}): {}; {}",
         fit.tests,
         fit.threshold_chi2,
@@ -586,7 +586,14 @@ pub(crate) fn challenge(
                 leader.report.kind
             ),
         }
-    ));
+    );
+    notes.push(
+        Note::new(NoteKind::Rivals, text)
+            .subject(leader.report.kind.clone())
+            .figure("tests", fit.tests as f64)
+            .figure("threshold_chi2", fit.threshold_chi2)
+            .figure("signals", fit.alternatives.len() as f64),
+    );
     Ok(match judgement {
         Judgement::CatalogueSurvives => (verdict, Vec::new()),
         Judgement::BothNeeded => match verdict {

@@ -12,7 +12,7 @@ use crate::input::DiagnoseConfig;
 use crate::problem::{Problem, RunFitData};
 use crate::rank::{Evaluated, Layout, NullDist, evaluate};
 use crate::refine::Refinement;
-use crate::report::{ChiSquareTest, Verdict};
+use crate::report::{ChiSquareTest, Note, NoteKind, Verdict};
 use crate::sensitivity::RunSensitivity;
 use crate::stats::chi2_sf;
 use crate::walk::fit_walk;
@@ -98,7 +98,7 @@ pub(crate) fn time_local_events(
     sc: &ScanScope<'_>,
     prepared: Option<&mut [Prepared]>,
     cfg: &DiagnoseConfig,
-    notes: &mut Vec<String>,
+    notes: &mut Vec<Note>,
 ) -> Result<(EventScan, Vec<EventSignal>), DiagError> {
     let winner = ranked.first().filter(|e| e.report.passes);
     let runs = scan_runs(winner, ranked, sc);
@@ -140,7 +140,7 @@ pub(crate) fn time_local_events(
     // (a free intensity absorbs a step or a transient; its chi-square drop can even exceed the
     // event's, since it also bends to the misfit of the event's grid and shape).
     if p_value >= cfg.alpha {
-        notes.push(format!(
+        let text = format!(
             "{}: refused; with the {} time-local event(s) outside the catalogue removed its \
              chi-square drop falls from {:.1} to {:.1} (p {:.2}): the walk was absorbing them",
             kind.name(),
@@ -148,7 +148,14 @@ pub(crate) fn time_local_events(
             top.dchi2,
             dchi2,
             p_value,
-        ));
+        );
+        notes.push(
+            Note::new(NoteKind::TimeLocal, text)
+                .subject(kind.name())
+                .figure("dchi2", top.dchi2)
+                .figure("dchi2_without_events", dchi2)
+                .figure("p_value", p_value),
+        );
         if let Some(w) = top.whiteness.as_mut() {
             w.consistent = false;
         }
@@ -240,11 +247,7 @@ pub(crate) fn ranked_without_events(
 
 /// The verdict once the time-local events are known: an event no catalogue term explains is a
 /// gap the catalogue leaves (none -> unexplained, explained -> partly explained).
-pub(crate) fn with_events(
-    verdict: Verdict,
-    events: &EventScan,
-    notes: &mut Vec<String>,
-) -> Verdict {
+pub(crate) fn with_events(verdict: Verdict, events: &EventScan, notes: &mut Vec<Note>) -> Verdict {
     let outside: Vec<&TimeLocalEvent> = events
         .events
         .iter()
@@ -264,7 +267,7 @@ pub(crate) fn with_events(
                     v
                 })
         };
-        notes.push(format!(
+        let text = format!(
             "time-local scan: {} tests (steps, ramps, transients of {:?} s, pulses of {:?} s, \
              ramps to a plateau rising over {:?} s, on six axes, every onset), Bonferroni \
              threshold chi2 {:.1}; {} event(s), {} outside the catalogue",
@@ -275,7 +278,14 @@ pub(crate) fn with_events(
             events.threshold_chi2,
             events.events.len(),
             outside.len()
-        ));
+        );
+        notes.push(
+            Note::new(NoteKind::TimeLocal, text)
+                .figure("tests", events.tests as f64)
+                .figure("threshold_chi2", events.threshold_chi2)
+                .figure("events", events.events.len() as f64)
+                .figure("events_outside", outside.len() as f64),
+        );
     }
     if outside.is_empty() {
         return verdict;

@@ -8,6 +8,7 @@ use crate::noise::NoiseSpec;
 use crate::pass::Grid;
 use crate::rank::Layout;
 use crate::replay::temperature_series;
+use crate::report::{Note, NoteKind};
 use crate::runs::par_runs;
 use crate::sensitivity::{RunSensitivity, SensitivitySetup, run_sensitivity};
 use sins_imu::{EffectKind, ImuErrorParams};
@@ -67,14 +68,14 @@ pub(crate) fn calibration_absorption(
     cfg: &DiagnoseConfig,
     layouts: &[Layout],
     sens: &mut [RunSensitivity],
-    notes: &mut Vec<String>,
+    notes: &mut Vec<Note>,
 ) -> Result<Option<Absorption>, DiagError> {
     let Some(name) = input.calibration_run.clone() else {
-        notes.push(
+        notes.push(Note::new(
+            NoteKind::CalibrationAbsorption,
             "no calibration run among the inputs: the candidates act on the navigation only, \
-             not through the coefficients a calibration in their presence would have biased"
-                .into(),
-        );
+             not through the coefficients a calibration in their presence would have biased",
+        ));
         return Ok(None);
     };
     let params = input.params;
@@ -114,7 +115,7 @@ pub(crate) fn calibration_absorption(
             .map(|((g, r), s)| if *s > 0.0 { (g - r).abs() / s } else { 0.0 })
             .fold(0.0, f64::max)
     });
-    notes.push(format!(
+    let text = format!(
         "calibration absorption: run '{name}' recalibrated ({}-state filter, twin noise) once as \
          recorded and once per candidate component with it added, {} components; each candidate \
          acts on the navigation directly and through the coefficients it biases{}",
@@ -123,6 +124,13 @@ pub(crate) fn calibration_absorption(
         worst.map_or(String::new(), |w| format!(
             "; the recalibration reproduces the given set within {w:.2} sigma"
         ))
-    ));
+    );
+    let mut note = Note::new(NoteKind::CalibrationAbsorption, text)
+        .run(name.as_str())
+        .figure("components", comps.len() as f64);
+    if let Some(w) = worst {
+        note = note.figure("recalibration_sigma", w);
+    }
+    notes.push(note);
     Ok(Some(a))
 }

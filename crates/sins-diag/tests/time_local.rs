@@ -11,7 +11,7 @@ use common::*;
 use sins_diag::diagnose;
 use sins_diag::events::TimeLocalEvent;
 use sins_diag::input::DiagnoseConfig;
-use sins_diag::report::{Diagnosis, Verdict};
+use sins_diag::report::{Diagnosis, NoteKind, Verdict};
 use sins_imu::{EffectKind, EffectSpec};
 use sins_nav::Vec3;
 
@@ -69,6 +69,21 @@ fn no_effect_no_event() {
     assert!(d.events.tests > 1000, "{}", d.events.tests);
     // Detectable levels exist for every channel and shape of both runs.
     assert!(d.events.detectable.len() >= 2 * 6 * 3);
+    // The scan's note is typed: its figures are the scan's own.
+    let note = d
+        .notes
+        .iter()
+        .find(|n| n.kind == NoteKind::TimeLocal && n.text.starts_with("time-local scan"))
+        .expect("the scan's note");
+    let figure = |name: &str| {
+        note.figures
+            .iter()
+            .find(|f| f.name == name)
+            .map(|f| f.value)
+    };
+    assert_eq!(figure("tests"), Some(d.events.tests as f64), "{note:?}");
+    assert_eq!(figure("threshold_chi2"), Some(d.events.threshold_chi2));
+    assert_eq!(figure("events"), Some(0.0));
 }
 
 #[test]

@@ -6,6 +6,7 @@ use crate::out::{note, say};
 use anyhow::{Result, anyhow, bail};
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::noise::NoiseSpec;
+use sins_diag::report::{Note, NoteKind};
 use sins_gap::{DiagnoseRequest, diagnose_datasets, write_diagnosis};
 use std::path::PathBuf;
 
@@ -171,6 +172,9 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         config,
     })?;
     let mut outcome = outcome;
+    let noise_notes = noise_notes
+        .into_iter()
+        .map(|t| Note::new(NoteKind::NoiseIdentification, t));
     outcome.diagnosis.notes.splice(0..0, noise_notes);
     outcome.diagnosis.noise_untrusted = untrusted;
     let dir = write_diagnosis(&parent, &name, &outcome)?;
