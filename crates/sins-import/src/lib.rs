@@ -1,32 +1,4 @@
-//! Real IMU recordings read as they come: delimited text (CSV, TSV, whitespace), fixed binary
-//! records (f32/f64/i16/i32/u16/u32, either byte order) and the PSINS `.imu` text format,
-//! gzip-compressed or not, described by a small TOML file ([`Description`]), converted into a
-//! sinsbench dataset with its provenance.
-//!
-//! The import makes two passes over the source. The first (the survey) parses and checks every
-//! record, finds dropped samples and long gaps and measures the stamps' jitter, so that a bad
-//! file is refused before anything is written; the second converts and writes. Each dataset is
-//! written aside and renamed into place ([`sins_data::DatasetWriter`]). The metadata records the
-//! source's SHA-256, the description used, every conversion applied, the time-stamp statistics
-//! and every bridged gap (`sinsbench.import.*` keys), and the time base (`sinsbench.time_base`).
-//!
-//! ```no_run
-//! use std::path::Path;
-//! use sins_import::{Description, ImportRequest, import};
-//! let desc = Description::psins();
-//! let report = import(
-//!     &ImportRequest {
-//!         source: Path::new("lasergyro.imu"),
-//!         description: &desc,
-//!         description_file: Path::new("lasergyro.imu"),
-//!         description_text: "format = \"psins\"",
-//!         out: Path::new("lasergyro.parquet"),
-//!     },
-//!     &mut |_| {},
-//! )?;
-//! println!("{} samples at {} Hz", report.stretches[0].rows, report.rate_hz);
-//! # Ok::<(), sins_import::ImportError>(())
-//! ```
+#![doc = include_str!("../README.md")]
 
 mod description;
 mod error;

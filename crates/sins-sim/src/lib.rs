@@ -1,12 +1,4 @@
-//! Turntable + thermal chamber + sensor simulator: exact angular and velocity increments of an
-//! IMU on a turntable at a fixed site, passed through the truth error model (`sins-imu`), with
-//! accelerometer thermal lags, thermometer noise, gyro and accelerometer noise, and laser-gyro
-//! quantization. Deterministic: the same scenario and seed give bit-identical samples.
-//!
-//! Modules: [`motion`] (timeline, closed-form attitude and body rate), [`quadrature`]
-//! (Gauss-Legendre tables), [`increments`] (exact increments), [`thermal`] (chamber and
-//! accelerometer temperatures), [`noise`] (seeded noise streams), [`generator`] (the streaming
-//! simulator), [`scenario`] (the input contract), [`error`].
+#![doc = include_str!("../README.md")]
 #![warn(missing_docs)]
 
 pub mod error;
