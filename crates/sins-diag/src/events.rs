@@ -68,9 +68,11 @@ pub struct EventScanConfig {
     pub onset_every_s: usize,
     /// Time constants of the transients tried (s).
     pub time_constants_s: Vec<f64>,
-    /// Durations of the pulses tried (s, rounded to the onset grid).
+    /// Durations of the pulses tried (s, rounded to the onset grid; none by default). With
+    /// any, a step found is also tried as either edge of a pulse.
     pub pulse_durations_s: Vec<f64>,
-    /// Rise times of the ramps to a plateau tried (s, rounded to the onset grid).
+    /// Rise times of the ramps to a plateau tried (s, rounded to the onset grid; none by
+    /// default).
     pub plateau_rises_s: Vec<f64>,
     /// Events per run at most.
     pub max_events_per_run: usize,
@@ -86,8 +88,12 @@ impl Default for EventScanConfig {
             enabled: true,
             onset_every_s: 120,
             time_constants_s: vec![300.0, 600.0, 1200.0, 2400.0, 4800.0, 9600.0],
-            pulse_durations_s: vec![600.0, 1200.0, 2400.0, 4800.0],
-            plateau_rises_s: vec![1200.0, 2400.0, 4800.0, 9600.0],
+            // Off by default: with pulses and plateaus in the family, the events absorb a true
+            // bias random walk (tests/walk_shape.rs: a 0.01 deg/h/√h gyro walk loses its
+            // evidence to them, and an oscillation's half-cycles taken as pulses let a walk
+            // pass). [`EventScanConfig::with_pulses_and_plateaus`] turns them on.
+            pulse_durations_s: Vec::new(),
+            plateau_rises_s: Vec::new(),
             max_events_per_run: 3,
             alpha: 1e-3,
             detectable_every_s: 3600.0,
@@ -122,6 +128,18 @@ pub enum Shape {
 }
 
 impl EventScanConfig {
+    /// The scan with pulses of 600-4800 s and ramps to a plateau rising over 1200-9600 s
+    /// (octaves): the widened blind draw's pulses and plateaus are then located at their onset
+    /// (not as a step at a pulse's end or a transient at a plateau's top), but a true bias
+    /// random walk can lose its evidence to them (see [`EventScanConfig::default`]).
+    pub fn with_pulses_and_plateaus(self) -> Self {
+        Self {
+            pulse_durations_s: vec![600.0, 1200.0, 2400.0, 4800.0],
+            plateau_rises_s: vec![1200.0, 2400.0, 4800.0, 9600.0],
+            ..self
+        }
+    }
+
     /// The distinct pulse durations in onset-grid steps, ascending.
     pub(crate) fn pulse_steps(&self) -> Vec<usize> {
         grid_steps(&self.pulse_durations_s, self.onset_every_s)

@@ -7,8 +7,8 @@
 //! false-alarm level is unchanged.
 //!
 //! A pulse of a duration far from the scan's can lose to a step at one of its edges (the
-//! sharp edge of an accelerometer pulse fixes the onset to a grid step or two). So the
-//! strongest step is also tried as either edge of a pulse of any whole duration; the pulse
+//! sharp edge of an accelerometer pulse fixes the onset to a grid step or two). So, when the
+//! scan has pulses at all, the strongest step is also tried as either edge of a pulse of any whole duration; the pulse
 //! replaces it when its `T` exceeds the step's by the chi-square of one degree of freedom at
 //! the scan's `alpha`, Bonferroni-corrected over the durations tried: the other edge is then a
 //! significant second parameter, not the best of many chances.
@@ -68,7 +68,7 @@ pub(super) fn refit(
     };
     let dt = cfg.onset_every_s.max(1) as f64;
     let b = match b.shape {
-        Shape::Step => pulse_at_an_edge(ax, nuis, b, cfg),
+        Shape::Step if !cfg.pulse_steps().is_empty() => pulse_at_an_edge(ax, nuis, b, cfg),
         _ => b,
     };
     let Some(duration_s) = b.shape.duration_s() else {
