@@ -131,7 +131,7 @@ impl EventScanConfig {
     /// The scan with pulses of 600-4800 s and ramps to a plateau rising over 1200-9600 s
     /// (octaves): the widened blind draw's pulses and plateaus are then located at their onset
     /// (not as a step at a pulse's end or a transient at a plateau's top), but a true bias
-    /// random walk can lose its evidence to them (see [`EventScanConfig::default`]).
+    /// random walk can lose its evidence to them (see the comment in `EventScanConfig::default`).
     pub fn with_pulses_and_plateaus(self) -> Self {
         Self {
             pulse_durations_s: vec![600.0, 1200.0, 2400.0, 4800.0],
