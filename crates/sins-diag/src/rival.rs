@@ -93,47 +93,63 @@ fn visit_axis(
     }
 }
 
-/// Index of a form in the stats table.
-fn form_index(form: Form, cfg: &EventScanConfig) -> usize {
-    let n = cfg.time_constants_s.len();
-    let pulses = cfg.pulse_steps();
-    let dt = cfg.onset_every_s.max(1) as f64;
-    let grid = |steps: &[usize], t: f64| {
-        steps
-            .iter()
-            .position(|&s| s == (t / dt).round() as usize)
-            .unwrap_or(0)
-    };
-    let tau = |t: f64| {
-        cfg.time_constants_s
-            .iter()
-            .position(|&x| x == t)
-            .unwrap_or(0)
-    };
-    match form {
-        Form::Event(Shape::Step) => 0,
-        Form::Event(Shape::Ramp) => 1,
-        Form::Event(Shape::Transient { tau_s, turn_on }) => {
-            2 + tau(tau_s) + if turn_on { n } else { 0 }
-        }
-        Form::Event(Shape::Pulse { duration_s }) => 2 + 2 * n + grid(&pulses, duration_s),
-        Form::Event(Shape::Plateau { rise_s }) => {
-            2 + 2 * n + pulses.len() + grid(&cfg.plateau_steps(), rise_s)
-        }
-        Form::Sine { period_s, cosine } => {
-            let j = OSCILLATION_PERIODS_S
-                .iter()
-                .position(|&x| x == period_s)
-                .unwrap_or(0);
-            event_forms(cfg) + 2 * j + usize::from(cosine)
-        }
-    }
+/// The index of every form in the stats table, worked out once per fill (the visit hands out
+/// every signal of every run, so nothing here may allocate per signal).
+struct Forms<'a> {
+    taus: &'a [f64],
+    pulses: Vec<usize>,
+    rises: Vec<usize>,
+    dt: f64,
 }
 
-/// The forms of the event scan's shapes (steps, ramps, transients and turn-on transients,
-/// pulses, plateaus); the oscillations come after them.
-fn event_forms(cfg: &EventScanConfig) -> usize {
-    2 + 2 * cfg.time_constants_s.len() + cfg.pulse_steps().len() + cfg.plateau_steps().len()
+impl<'a> Forms<'a> {
+    fn new(cfg: &'a EventScanConfig) -> Self {
+        Self {
+            taus: &cfg.time_constants_s,
+            pulses: cfg.pulse_steps(),
+            rises: cfg.plateau_steps(),
+            dt: cfg.onset_every_s.max(1) as f64,
+        }
+    }
+
+    /// The forms of the event scan's shapes (steps, ramps, transients and turn-on
+    /// transients, pulses, plateaus); the oscillations come after them.
+    fn events(&self) -> usize {
+        2 + 2 * self.taus.len() + self.pulses.len() + self.rises.len()
+    }
+
+    /// Every form, oscillations included.
+    fn count(&self) -> usize {
+        self.events() + 2 * OSCILLATION_PERIODS_S.len()
+    }
+
+    /// Index of `form`.
+    fn index(&self, form: Form) -> usize {
+        let n = self.taus.len();
+        let grid = |steps: &[usize], t: f64| {
+            let k = (t / self.dt).round() as usize;
+            steps.iter().position(|&s| s == k).unwrap_or(0)
+        };
+        match form {
+            Form::Event(Shape::Step) => 0,
+            Form::Event(Shape::Ramp) => 1,
+            Form::Event(Shape::Transient { tau_s, turn_on }) => {
+                let i = self.taus.iter().position(|&x| x == tau_s).unwrap_or(0);
+                2 + i + if turn_on { n } else { 0 }
+            }
+            Form::Event(Shape::Pulse { duration_s }) => 2 + 2 * n + grid(&self.pulses, duration_s),
+            Form::Event(Shape::Plateau { rise_s }) => {
+                2 + 2 * n + self.pulses.len() + grid(&self.rises, rise_s)
+            }
+            Form::Sine { period_s, cosine } => {
+                let j = OSCILLATION_PERIODS_S
+                    .iter()
+                    .position(|&x| x == period_s)
+                    .unwrap_or(0);
+                self.events() + 2 * j + usize::from(cosine)
+            }
+        }
+    }
 }
 
 /// Per run and signal: `sᵀr`, `sᵀs` and `sᵀq_j` for the current nuisance directions.
@@ -155,7 +171,8 @@ impl Table {
 }
 
 fn fill(st: &Stacked, q: &[DVector<f64>], r: &DVector<f64>, cfg: &EventScanConfig) -> Table {
-    let forms = event_forms(cfg) + 2 * OSCILLATION_PERIODS_S.len();
+    let index = Forms::new(cfg);
+    let forms = index.count();
     let kmax = st
         .runs
         .iter()
@@ -179,7 +196,7 @@ fn fill(st: &Stacked, q: &[DVector<f64>], r: &DVector<f64>, cfg: &EventScanConfi
         let mut slab = vec![f64::NAN; keys * stride];
         for axis in 0..6 {
             visit_axis(p, axis, cfg, &mut |form, m, sig| {
-                let fi = form_index(form, cfg);
+                let fi = index.index(form);
                 t.form_of[fi] = Some(form);
                 let k = (axis * forms + fi) * kmax + m;
                 let e = &mut slab[k * stride..(k + 1) * stride];
