@@ -4,10 +4,11 @@
 //! time-local scan (`timelocal`), the winner's constancy, the verdict, the localisation, and
 //! the winner's fitted series and withheld validation (`winner`).
 
+use crate::cal_events::absorbed_events;
 use crate::calib::uncertainty;
 use crate::confound::confounds;
 use crate::error::DiagError;
-use crate::events::{EventScan, ScanRun};
+use crate::events::{EventScan, EventSignal, ScanRun};
 use crate::gaps::{Catalogue, catalogue, gaps};
 use crate::input::{DiagnoseConfig, DiagnosisInput};
 use crate::localise::{GapSeries, localise};
@@ -25,7 +26,7 @@ use crate::rival::{JudgeScope, challenge, named};
 use crate::sensitivity::RunSensitivity;
 use crate::stacked::Stacked;
 use crate::timelocal::{
-    ScanScope, leader, ranked_without_events, scan_runs, time_local_events, with_events,
+    Located, ScanScope, leader, ranked_without_events, scan_runs, time_local_events, with_events,
 };
 use crate::twin::{base_setup, calibration_absorption, sensitivities};
 use crate::unresolved::{add_unresolved_walks, leader_contribution, widen_envelopes};
@@ -126,15 +127,22 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         &mut notes,
     )?;
     finish_ranking(&mut ranked, ctx.n, cfg);
-    let (again, left) = ranked_without_events(
-        &ranked,
-        &events,
-        &signals,
-        &scope,
-        &cat.layouts,
-        floor_var,
-        cfg,
-    )?;
+    // What the calibration run's events did to the coefficients, in every run's gap.
+    let absorbed = absorbed_events(input, absorption.as_ref(), &events, &sens, cfg)?;
+    let absorbed: Vec<EventSignal> = match absorbed {
+        Some(a) => {
+            notes.push(a.note);
+            a.signals
+        }
+        None => Vec::new(),
+    };
+    let located = Located {
+        events: &events,
+        signals: &signals,
+        absorbed: &absorbed,
+    };
+    let (again, left) =
+        ranked_without_events(&ranked, &located, &scope, &cat.layouts, floor_var, cfg)?;
     if let Some(again) = again {
         notes.push(ranked_again_note(&events, &ranked, &again));
         ranked = again;
@@ -153,6 +161,7 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
         floor_var,
         n_tests: ctx.n_tests,
         left,
+        absorbed: &absorbed,
     };
     let (verdict, rivals, confound) =
         challenged.run(verdict, stacked.as_mut(), &ranked, cfg, &mut notes)?;
@@ -196,6 +205,8 @@ struct Challenge<'a> {
     floor_var: f64,
     n_tests: f64,
     left: Option<ChiSquareTest>,
+    /// The calibration run's events through the coefficients, taken off every run's gap.
+    absorbed: &'a [EventSignal],
 }
 
 impl Challenge<'_> {
@@ -220,10 +231,14 @@ impl Challenge<'_> {
             .refinements
             .iter()
             .find(|r| leader.as_deref() == Some(r.layout.kind.name()));
-        match refined {
-            Some(r) => stacked.take(&refined_runs(r, self.scope.sens), &cfg.events)?,
-            None => stacked.take(&scan_runs(None, ranked, self.scope), &cfg.events)?,
+        let mut runs = match refined {
+            Some(r) => refined_runs(r, self.scope.sens),
+            None => scan_runs(None, ranked, self.scope),
+        };
+        for a in self.absorbed {
+            runs[a.run].residual -= &a.contribution;
         }
+        stacked.take(&runs, &cfg.events)?;
         let stacked = &*stacked;
         let confound = confounds(
             stacked,
@@ -255,6 +270,7 @@ impl Challenge<'_> {
             walks: self.scope.walks,
             floor_var: self.floor_var,
             n_tests: self.n_tests,
+            absorbed: self.absorbed,
         };
         let (verdict, rivals) = challenge(verdict, stacked, ranked, &sc, cfg, notes)?;
         Ok((verdict, rivals, confound))

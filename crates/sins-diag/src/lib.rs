@@ -98,6 +98,7 @@ mod walk;
 // 4. Refine.
 mod refine;
 // 5. Time-local effects.
+mod cal_events;
 pub mod events;
 mod timelocal;
 // 5b. Time-local rivals of a catalogue verdict and the design's confounds.

@@ -428,6 +428,8 @@ pub(crate) struct JudgeScope<'a> {
     pub floor_var: f64,
     /// Tests of the catalogue (its Bonferroni factor).
     pub n_tests: f64,
+    /// The calibration run's events through the coefficients (taken off the gap).
+    pub absorbed: &'a [EventSignal],
 }
 
 /// Parameters of a rival signal: its size and its shape's free parameters (an onset, a time
@@ -462,7 +464,7 @@ pub(crate) fn judge(
     let Some((l, rf)) = leader.regression.as_ref() else {
         // A walk fits any time course more freely: it is needed only if it still passes on
         // the gap less the rivals' joint fit; otherwise the rivals took its evidence.
-        let p2 = without_events(sc.data, fit.contributions.iter())?;
+        let p2 = without_events(sc.data, fit.contributions.iter().chain(sc.absorbed))?;
         let (mean, var) = p2.null_moments(sc.floor_var);
         let again = evaluate(
             &p2,

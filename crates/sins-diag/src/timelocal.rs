@@ -204,22 +204,33 @@ pub(crate) fn leader(ranked: &[Evaluated]) -> &str {
         .map_or("none", |e| e.report.kind.as_str())
 }
 
-/// The catalogue ranked on the gap less the events no catalogue term explains, when that
-/// changes the leader (an effect local in time pulls the fit of slow catalogue signatures: a
-/// turn-on transient passes for a g-sensitivity), and the null test of that gap: when the
-/// located events leave no significant gap, the catalogue gets no credit. `None`s when there
-/// is no such event; no ranking when the leader stays (the first ranking keeps its
-/// refinements).
+/// The located events the catalogue is ranked again without.
+pub(crate) struct Located<'a> {
+    /// The scan.
+    pub events: &'a EventScan,
+    /// Each event's fitted contribution (in the order of `events.events`).
+    pub signals: &'a [EventSignal],
+    /// The calibration run's events through the coefficients (see `crate::cal_events`).
+    pub absorbed: &'a [EventSignal],
+}
+
+/// The catalogue ranked on the gap less the events no catalogue term explains (and the
+/// calibration run's events' path through the coefficients), when that changes the leader
+/// (an effect local in time pulls the fit of slow catalogue signatures: a turn-on transient
+/// passes for a g-sensitivity), and the null test of that gap: when the located events leave
+/// no significant gap, the catalogue gets no credit. `None`s when there is no such event; no
+/// ranking when the leader stays (the first ranking keeps its refinements).
 pub(crate) fn ranked_without_events(
     ranked: &[Evaluated],
-    events: &EventScan,
-    signals: &[EventSignal],
+    located: &Located<'_>,
     sc: &ScanScope<'_>,
     layouts: &[Layout],
     floor_var: f64,
     cfg: &DiagnoseConfig,
 ) -> Result<(Option<Vec<Evaluated>>, Option<ChiSquareTest>), DiagError> {
-    let mut outside = signals
+    let events = located.events;
+    let mut outside = located
+        .signals
         .iter()
         .zip(&events.events)
         .filter(|(_, e)| e.explained_by.is_none())
@@ -228,7 +239,7 @@ pub(crate) fn ranked_without_events(
     if outside.peek().is_none() {
         return Ok((None, None));
     }
-    let p2 = without_events(sc.data, outside)?;
+    let p2 = without_events(sc.data, outside.chain(located.absorbed))?;
     let (mean, var) = p2.null_moments(floor_var);
     let dist = NullDist::from_moments(mean, var);
     // The events' sizes and onsets were fitted: one size and one onset each.
