@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 use sins_diag::noise::NoiseSpec;
+use sins_diag::report::{Note, NoteKind};
 use sins_nav::{DEG_PER_H, UG};
 use sins_sim::NoiseModel;
 use sins_sim::noise::GM_ALLAN_PEAK_RATIO;
@@ -208,15 +209,7 @@ pub struct IdentifiedNoise {
 impl IdentifiedNoise {
     /// One note per stretch of motion found and left out.
     pub fn motion_notes(&self) -> Vec<String> {
-        self.motion
-            .iter()
-            .map(|m| {
-                format!(
-                    "noise identification: motion in {} at {:.1}-{:.1} s ({}), left out",
-                    m.run, m.start_s, m.end_s, m.channel
-                )
-            })
-            .collect()
+        self.motion.iter().map(motion_text).collect()
     }
 
     /// Whether the identified model is consistent with the data it came from.
@@ -282,6 +275,12 @@ impl IdentifiedNoise {
     /// One line per change of a bias found inside a stationary stretch (paper units), for the
     /// notes of the identification and of a diagnosis that uses it.
     pub fn change_notes(&self) -> Vec<String> {
+        self.change_findings().into_iter().map(|n| n.text).collect()
+    }
+
+    /// The changes of [`IdentifiedNoise::change_notes`] as typed notes: the run, the channel,
+    /// and the figures `size` (deg/h or ug), `at_s`, `z` and `left_out_s`.
+    fn change_findings(&self) -> Vec<Note> {
         let mut out = Vec::new();
         for s in &self.stretches {
             for c in &s.changes {
@@ -290,7 +289,7 @@ impl IdentifiedNoise {
                 } else {
                     ("ug", UG)
                 };
-                out.push(format!(
+                let text = format!(
                     "{}: the bias changes by {:.4} {unit} at {:.0} s of run {} (z = {:.1}) inside a stationary stretch; the {:.0} s around it are left out of the noise identification (a change is not noise: the diagnosis sees it in the navigation data)",
                     c.channel,
                     c.size / per,
@@ -298,9 +297,42 @@ impl IdentifiedNoise {
                     s.run,
                     c.z,
                     c.left_out_s
-                ));
+                );
+                out.push(
+                    Note::new(NoteKind::NoiseIdentification, text)
+                        .run(s.run.as_str())
+                        .subject(c.channel.as_str())
+                        .figure("size", c.size / per)
+                        .figure("at_s", c.at_s)
+                        .figure("z", c.z)
+                        .figure("left_out_s", c.left_out_s),
+                );
             }
         }
+        out
+    }
+
+    /// What a diagnosis that uses this identification reports of it, typed at the source
+    /// (kind `noise_identification`): the turn-on left out (figure `left_out_s`), every bias
+    /// change inside a stationary stretch (run, channel, `size` in deg/h or ug, `at_s`, `z`,
+    /// `left_out_s`) and every stretch of motion left out (run, channel, `start_s`, `end_s`).
+    pub fn diagnosis_notes(&self) -> Vec<Note> {
+        let mut out: Vec<Note> = self
+            .turn_on_note()
+            .map(|t| {
+                Note::new(NoteKind::NoiseIdentification, t)
+                    .figure("left_out_s", self.turn_on_left_out_s)
+            })
+            .into_iter()
+            .collect();
+        out.extend(self.change_findings());
+        out.extend(self.motion.iter().map(|m| {
+            Note::new(NoteKind::NoiseIdentification, motion_text(m))
+                .run(m.run.as_str())
+                .subject(m.channel.as_str())
+                .figure("start_s", m.start_s)
+                .figure("end_s", m.end_s)
+        }));
         out
     }
 
@@ -308,6 +340,14 @@ impl IdentifiedNoise {
     pub fn stationary_s(&self) -> f64 {
         self.runs.iter().map(|r| r.stationary_s).sum()
     }
+}
+
+/// The line on a stretch of motion left out.
+fn motion_text(m: &MotionReport) -> String {
+    format!(
+        "noise identification: motion in {} at {:.1}-{:.1} s ({}), left out",
+        m.run, m.start_s, m.end_s, m.channel
+    )
 }
 
 /// Bias-instability figure (Allan peak) of a Gauss-Markov σ.

@@ -248,6 +248,33 @@ fn a_bias_change_inside_a_stretch_is_left_out_of_the_noise() {
             .iter()
             .any(|n| n.contains("gyro_z: the bias changes"))
     );
+    // A diagnosis gets it typed: the change's own run, channel and figures (paper units).
+    let typed: Vec<_> = id
+        .diagnosis_notes()
+        .into_iter()
+        .filter(|n| n.subject.as_deref() == Some("gyro_z"))
+        .collect();
+    assert_eq!(typed.len(), 1, "{typed:?}");
+    let figure = |name: &str| {
+        typed[0]
+            .figures
+            .iter()
+            .find(|f| f.name == name)
+            .map(|f| f.value)
+    };
+    assert_eq!(
+        typed[0].kind,
+        sins_diag::report::NoteKind::NoiseIdentification
+    );
+    let run = id
+        .stretches
+        .iter()
+        .find(|s| s.changes.contains(c))
+        .map(|s| s.run.clone());
+    assert_eq!(typed[0].run, run);
+    assert_eq!(figure("at_s"), Some(c.at_s));
+    assert_eq!(figure("size"), Some(c.size / sins_nav::DEG_PER_H));
+    assert_eq!(figure("z"), Some(c.z));
     within("gyro GM sigma", &id.gyro.bias_sigma, sigma, 3.0);
     within("gyro GM correlation", &id.gyro.bias_correlation_s, tc, 3.0);
     within(

@@ -119,7 +119,10 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                     unresolved_walk_per_sqrt_s: table.unresolved_walk_per_sqrt_s,
                     ..NoiseSpec::from(&table.noise)
                 },
-                vec![format!("twin noise: the {what} {}{walks}", path.display())],
+                vec![Note::new(
+                    NoteKind::NoiseIdentification,
+                    format!("twin noise: the {what} {}{walks}", path.display()),
+                )],
                 table.inconsistent.clone(),
             )
         }
@@ -143,12 +146,13 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                     e => anyhow!(e),
                 })?;
             let line = sins_gap::noise_report::noise_one_line(&id);
-            let mut notes = vec![format!(
-                "twin noise: identified from the data's stationary segments (sinsbench noise): {line}"
+            let mut notes = vec![Note::new(
+                NoteKind::NoiseIdentification,
+                format!(
+                    "twin noise: identified from the data's stationary segments (sinsbench noise): {line}"
+                ),
             )];
-            notes.extend(id.turn_on_note());
-            notes.extend(id.change_notes());
-            notes.extend(id.motion_notes());
+            notes.extend(id.diagnosis_notes());
             (id.to_noise_spec(), notes, id.inconsistent.clone())
         }
     };
@@ -172,9 +176,6 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         config,
     })?;
     let mut outcome = outcome;
-    let noise_notes = noise_notes
-        .into_iter()
-        .map(|t| Note::new(NoteKind::NoiseIdentification, t));
     outcome.diagnosis.notes.splice(0..0, noise_notes);
     outcome.diagnosis.noise_untrusted = untrusted;
     let dir = write_diagnosis(&parent, &name, &outcome)?;

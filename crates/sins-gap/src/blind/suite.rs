@@ -10,7 +10,7 @@ use sins_config::load_experiment;
 use sins_config::markdown::Table;
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::noise::NoiseSpec;
-use sins_diag::report::{Diagnosis, Note, NoteKind};
+use sins_diag::report::Diagnosis;
 use sins_harness::HarnessError;
 use sins_harness::pipeline::{calibration_filter, filter_noise_for};
 use sins_imu::ParamModel;
@@ -226,9 +226,7 @@ pub fn run_case(
     let (noise, noise_notes) = if cfg.identified_noise {
         let labels = sins_noiseid::NoiseIdConfig::default().labels;
         let id = crate::identify_datasets(&datasets, &labels, Some(&cal.params))?;
-        let mut notes: Vec<String> = id.turn_on_note().into_iter().collect();
-        notes.extend(id.change_notes());
-        (id.to_noise_spec(), notes)
+        (id.to_noise_spec(), id.diagnosis_notes())
     } else {
         (noise, Vec::new())
     };
@@ -242,9 +240,6 @@ pub fn run_case(
         config: cfg.diagnose.clone(),
     };
     let mut outcome = diagnose_datasets(&request)?;
-    let noise_notes = noise_notes
-        .into_iter()
-        .map(|t| Note::new(NoteKind::NoiseIdentification, t));
     outcome.diagnosis.notes.splice(0..0, noise_notes);
     crate::write_diagnosis(&case_dir, "diagnosis", &outcome)?;
     let timing = CaseTiming {
