@@ -1,16 +1,9 @@
-//! The navigation report of sinsbench (`sinsbench report`): run a report configuration
-//! ([`run_report`]: calibrate or load the parameter sets, simulate or read the navigation data,
-//! replay each experiment under every set) and write `reports/<name>/` atomically
-//! ([`write_report`]): `report.md` (the paper's Table 5 layout beside ours, per-segment maxima),
-//! `summary.json` (`sins_config::summary_to_json`), one Parquet error track, PNG plots and one
-//! Rerun `.rrd` per experiment, and the calibrated parameter sets.
-//!
-//! This crate and `sins-data` / `sins-viz` are the only ones here that link polars or rerun.
-
+#![doc = include_str!("../README.md")]
 #![warn(missing_docs)]
 
 mod dataset;
 mod error;
+pub mod frames;
 mod markdown;
 mod names;
 mod output;

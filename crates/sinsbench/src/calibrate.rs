@@ -3,7 +3,6 @@
 use crate::out::say;
 use crate::progress;
 use anyhow::{Context, Result, bail};
-use polars::prelude::{Column, DataFrame};
 use sins_config::{ParamSet, coefficient_table, write_params};
 use sins_data::DatasetReader;
 use sins_harness::pipeline::calibration_filter;
@@ -258,22 +257,14 @@ fn write_history(
             curves.push((format!("calibration/{name}_{unit}/{suffix}"), pts));
         }
     }
-    let mut columns = vec![Column::new("t_s".into(), times)];
+    let mut columns = Vec::with_capacity(2 * names.len());
     for (k, name) in names.iter().enumerate() {
-        columns.push(Column::new(
-            (*name).into(),
-            std::mem::take(&mut values[2 * k]),
-        ));
-        columns.push(Column::new(
-            format!("{name}_sigma").into(),
+        columns.push((name.to_string(), std::mem::take(&mut values[2 * k])));
+        columns.push((
+            format!("{name}_sigma"),
             std::mem::take(&mut values[2 * k + 1]),
         ));
     }
-    let mut df = DataFrame::new(n, columns)?;
-    sins_data::write_parquet_df_atomic(
-        path,
-        &mut df,
-        &[("sinsbench.kind".into(), "calibration_history".into())],
-    )?;
+    sins_report::frames::write_calibration_history(path, times, columns)?;
     Ok(curves)
 }

@@ -3,7 +3,6 @@
 use crate::out::say;
 use crate::{argcheck, progress};
 use anyhow::{Context, Result};
-use polars::prelude::{Column, DataFrame};
 use sins_data::{DatasetInfo, DatasetReader};
 use sins_harness::pipeline::NamedParams;
 use sins_harness::replay_setup::{ReplayOptions, StartMode as HarnessStart, VerticalMode};
@@ -348,31 +347,7 @@ pub fn print_summary(info: &DatasetInfo, s: &ReplaySummary) -> Result<()> {
 }
 
 fn write_errors(path: &std::path::Path, info: &DatasetInfo, points: &[ErrorPoint]) -> Result<()> {
-    let col = |name: &str, f: &dyn Fn(&ErrorPoint) -> f64| {
-        Column::new(name.into(), points.iter().map(f).collect::<Vec<f64>>())
-    };
-    let mut df = DataFrame::new(
-        points.len(),
-        vec![
-            col("t_s", &|p| p.t_s),
-            col("north_m", &|p| p.north_m),
-            col("east_m", &|p| p.east_m),
-            col("horizontal_m", &|p| p.horizontal_m()),
-            col("vel_n_mps", &|p| p.vel_n_mps),
-            col("vel_e_mps", &|p| p.vel_e_mps),
-            Column::new(
-                "segment".into(),
-                points
-                    .iter()
-                    .map(|p| label(info, p.segment))
-                    .collect::<Vec<&str>>(),
-            ),
-        ],
-    )?;
-    let kv = vec![(
-        "sinsbench.dataset".to_string(),
-        info.path.display().to_string(),
-    )];
-    sins_data::write_parquet_df_atomic(path, &mut df, &kv)?;
+    let dataset = info.path.display().to_string();
+    sins_report::frames::write_error_track(path, &dataset, points, &info.segment_labels)?;
     Ok(())
 }

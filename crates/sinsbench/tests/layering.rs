@@ -222,6 +222,28 @@ fn architecture_layers() -> Vec<(String, Vec<String>)> {
     layers
 }
 
+/// The CLI is thin: it parses arguments and calls the library crates, which own every frame,
+/// file format and log. It depends on no data-frame, Parquet or Rerun library directly
+/// (through sins-report and sins-data it does).
+#[test]
+fn the_cli_builds_no_frame_and_writes_no_format_itself() {
+    let direct: Vec<String> = tree("sinsbench")
+        .into_iter()
+        .filter(|(d, n)| *d == 1 && banned(n, &["polars", "arrow", "parquet", "rerun"]))
+        .map(|(_, n)| n)
+        .collect();
+    assert!(
+        direct.is_empty(),
+        "sinsbench depends directly on {direct:?}"
+    );
+    // The check itself sees a direct dependency that is there.
+    assert!(
+        tree("sins-report")
+            .iter()
+            .any(|(d, n)| *d == 1 && n == "polars")
+    );
+}
+
 /// The workspace crates a crate depends on directly (normal and build edges).
 fn direct_workspace_deps(krate: &str, members: &BTreeSet<String>) -> BTreeSet<String> {
     tree(krate)
