@@ -1,13 +1,4 @@
-//! Calibration study of sinsbench (issue 3), as a library: the paper's Table 1 simulation over
-//! a Monte Carlo of seeds with the 42-state filter (consistency, NEES, observability, the count
-//! against the paper's residuals), the 30-state filter on the same data (the temperature effect
-//! left in its constants), and the four-temperature least-squares baseline against the proposed
-//! 42-state method on the Table 3 truth. The simulator streams straight into the filter; no
-//! files besides the experiment definitions and the paper's tables (`experiments/reference/`).
-//!
-//! Entry points: [`StudyConfig::paper`] → [`run_study`] → [`Study`] (serde-serialisable) and
-//! [`render_markdown`]. Deterministic: every field of a [`Study`] except
-//! [`Study::timing`] is bit-identical for any thread count (jobs are collected by index).
+#![doc = include_str!("../README.md")]
 #![warn(missing_docs)]
 
 pub mod baseline;

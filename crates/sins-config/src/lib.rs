@@ -1,29 +1,4 @@
-//! File formats of sinsbench, in human / paper units, and their conversion to the SI types of
-//! `sins-imu` and `sins-sim`:
-//!
-//! - **IMU parameter files** (TOML or JSON): the 30- or 42-state coefficient set of Wang et al.
-//!   2021 with keys named after the paper's symbols and units (`B_x_deg_per_h`, `dM_yx_arcsec`,
-//!   `TK_z_ppm_per_degc`, ...), optionally with 1-sigma uncertainties. [`load_params`],
-//!   [`parse_params_toml`], [`parse_params_json`], [`params_to_toml`], [`params_to_json`] (writing
-//!   then reading is bit-exact in SI) and [`coefficient_table`] for reports.
-//! - **Experiment files** (TOML): site, sampling, truth IMU and noise, thermal chamber, turntable
-//!   motion program and one or more runs; [`load_experiment`] turns each run into a
-//!   [`sins_sim::scenario::Scenario`].
-//! - **Noise files** (TOML, `kind = "noise"`): an `[imu.noise]` table with its 1-sigma, as
-//!   `sinsbench noise` identifies it; [`load_noise`] (also takes an experiment file),
-//!   [`noise_to_toml`], [`write_noise`].
-//! - **Extra effects** (`[[imu.effect]]` tables of an experiment, or a document of them alone): the
-//!   catalogue of `sins_imu::EffectKind`s in paper-style units; [`parse_effects_toml`] and
-//!   [`effects_to_toml`] (writing then reading is bit-exact in SI).
-//! - **Harness inputs**: the report configuration ([`load_report_config`]), the release-gate
-//!   thresholds ([`load_thresholds`], TOML), the paper's Table 5 ([`load_table5`], CSV) and a
-//!   report's `summary.json` ([`read_summary`], [`summary_to_json`]), read into (or written from)
-//!   the types of `sins-harness`; their errors are `sins_harness::HarnessError`s.
-//! - **Markdown tables** for the reports of the crates above this one: [`markdown::Table`].
-//!
-//! Every error names the file, the key path (`motion.segment[3].duration_s`) and, for TOML, the
-//! line. The schema is documented in `experiments/README.md`.
-
+#![doc = include_str!("../README.md")]
 #![warn(missing_docs)]
 
 mod coefficients;

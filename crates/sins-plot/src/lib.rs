@@ -1,29 +1,4 @@
-//! Dependency-light PNG line charts for sinsbench reports.
-//!
-//! A [`Figure`] stacks one or more [`Panel`]s vertically (optionally sharing the x axis) on a
-//! white image, 1200 x 400 pixels per panel by default. A panel draws [`Line`]s (2 px,
-//! anti-aliased, optionally dashed; NaN breaks the line; long series are decimated per pixel
-//! column keeping each column's minimum and maximum), filled [`Band`]s between two curves,
-//! shaded x [`Span`]s with labels, vertical [`Marker`]s, grid lines, 'nice' 1-2-5 ticks and a
-//! legend. Text uses a built-in 6x10 bitmap font (printable ASCII plus a few symbols such as
-//! degree, plus-minus, micro and sigma), so no font files or system fonts are involved.
-//!
-//! ```
-//! use sins_plot::{Figure, Line, Panel, Span};
-//! let t_h: Vec<f64> = (0..=150).map(|i| f64::from(i) * 0.1).collect();
-//! let err: Vec<f64> = t_h.iter().map(|t| 0.2 * t).collect();
-//! let png = Figure::new()
-//!     .panel(
-//!         Panel::new("horizontal error")
-//!             .x_label("time [h]")
-//!             .y_label("error [nmi]")
-//!             .span(Span::new("alignment", 0.0, 1.0 / 3.0))
-//!             .line(Line::new("42-state", t_h, err)),
-//!     )
-//!     .to_png_bytes()?;
-//! assert_eq!(&png[1..4], b"PNG");
-//! # Ok::<(), sins_plot::PlotError>(())
-//! ```
+#![doc = include_str!("../README.md")]
 
 mod allan;
 mod band;

@@ -1,11 +1,4 @@
-//! Rerun `.rrd` logs of sinsbench results, for offline viewing in the Rerun viewer.
-//! Only this crate links rerun, so the numeric crates build and test in seconds.
-//!
-//! A recording is built in memory (a Rerun memory sink: no I/O, so no flush that can hang on a
-//! full disk), encoded, and written aside and renamed into place by
-//! [`sins_files::write_file_atomically`]: a failed write (disk full, read-only directory)
-//! ends at once with an error naming the file, and never leaves a truncated `.rrd` in place of
-//! a good one.
+#![doc = include_str!("../README.md")]
 
 use std::path::Path;
 
