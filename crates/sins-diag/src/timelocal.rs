@@ -12,7 +12,7 @@ use crate::input::DiagnoseConfig;
 use crate::problem::{Problem, RunFitData};
 use crate::rank::{Evaluated, Layout, NullDist, evaluate};
 use crate::refine::Refinement;
-use crate::report::{ChiSquareTest, Note, NoteKind, Verdict};
+use crate::report::{CandidateReport, ChiSquareTest, Note, NoteKind, Verdict};
 use crate::sensitivity::RunSensitivity;
 use crate::stats::chi2_sf;
 use crate::walk::fit_walk;
@@ -140,6 +140,51 @@ pub(crate) fn time_local_events(
     // (a free intensity absorbs a step or a transient; its chi-square drop can even exceed the
     // event's, since it also bends to the misfit of the event's grid and shape).
     if p_value >= cfg.alpha {
+        // Unless every one of those events is a pulse or a ramp to a plateau, the walk's own
+        // wander makes each insignificant, and the walk says it with fewer parameters (BIC):
+        // then the events are the walk's excursions, fitted one by one. (A step or a ramp is
+        // refused as before: a walk fits one more freely than its single intensity counts
+        // for, and at the walk's 20 min lumps a step is no outlier increment.)
+        let excursions = outside
+            .iter()
+            .all(|&i| matches!(events.events[i].shape.as_str(), "pulse" | "plateau"));
+        let threshold = events.threshold_chi2;
+        let under = match excursions {
+            true => under_walk(&runs, &signals, &outside, top, first, kind, threshold)?,
+            false => vec![false],
+        };
+        let rows: usize = sc.data.iter().map(|d| d.gap.len()).sum();
+        let ln_n = (rows.max(2) as f64).ln();
+        let k_walk = top.components.iter().filter(|c| c.retained).count() as f64;
+        let walk_bic = top.dchi2 - k_walk * ln_n;
+        let events_bic: f64 = outside
+            .iter()
+            .map(|&i| {
+                let e = &events.events[i];
+                e.chi2 - event_parameters(&e.shape) * ln_n
+            })
+            .sum();
+        if under.iter().all(|&u| u) && walk_bic > events_bic {
+            let text = format!(
+                "{}: kept; the {} time-local event(s) outside the catalogue are insignificant \
+                 under its fitted wander, and it explains the gap with fewer parameters (BIC \
+                 gain {:.1} against {:.1} for the events)",
+                kind.name(),
+                outside.len(),
+                walk_bic,
+                events_bic
+            );
+            notes.push(
+                Note::new(NoteKind::TimeLocal, text)
+                    .subject(kind.name())
+                    .figure("walk_bic", walk_bic)
+                    .figure("events_bic", events_bic),
+            );
+            for &i in &outside {
+                events.events[i].explained_by = Some(kind.name().to_string());
+            }
+            return Ok((events, signals));
+        }
         let text = format!(
             "{}: refused; with the {} time-local event(s) outside the catalogue removed its \
              chi-square drop falls from {:.1} to {:.1} (p {:.2}): the walk was absorbing them",
@@ -161,27 +206,65 @@ pub(crate) fn time_local_events(
         }
         return Ok((events, signals));
     }
-    let unit = kind.unit();
-    for &i in &outside {
-        let e = &signals[i];
-        let r = &runs[e.run];
-        let mut cov = DMatrix::zeros(r.residual.len(), r.residual.len());
-        for (a, c) in top.components.iter().enumerate() {
-            if let Some(v) = r.fit.walks.get(first + a).filter(|_| c.retained) {
-                cov += v * v.transpose() * unit.to_si(c.value).powi(2);
-            }
-        }
-        let others: Vec<&DVector<f64>> = signals
-            .iter()
-            .enumerate()
-            .filter(|(j, o)| *j != i && o.run == e.run)
-            .map(|(_, o)| &o.contribution)
-            .collect();
-        if chi2_with(r, &cov, &e.contribution, &others)? < events.threshold_chi2 {
+    let under = under_walk(
+        &runs,
+        &signals,
+        &outside,
+        top,
+        first,
+        kind,
+        events.threshold_chi2,
+    )?;
+    for (&i, u) in outside.iter().zip(under) {
+        if u {
             events.events[i].explained_by = Some(kind.name().to_string());
         }
     }
     Ok((events, signals))
+}
+
+/// Whether each of the events `outside` is insignificant (below `threshold`) under the
+/// covariance of the walk `top` (kind `kind`, first bias axis `first`) at its fitted
+/// intensity, with the run's other events projected out.
+fn under_walk(
+    runs: &[ScanRun<'_>],
+    signals: &[EventSignal],
+    outside: &[usize],
+    top: &CandidateReport,
+    first: usize,
+    kind: EffectKind,
+    threshold: f64,
+) -> Result<Vec<bool>, DiagError> {
+    let unit = kind.unit();
+    outside
+        .iter()
+        .map(|&i| {
+            let e = &signals[i];
+            let r = &runs[e.run];
+            let mut cov = DMatrix::zeros(r.residual.len(), r.residual.len());
+            for (a, c) in top.components.iter().enumerate() {
+                if let Some(v) = r.fit.walks.get(first + a).filter(|_| c.retained) {
+                    cov += v * v.transpose() * unit.to_si(c.value).powi(2);
+                }
+            }
+            let others: Vec<&DVector<f64>> = signals
+                .iter()
+                .enumerate()
+                .filter(|(j, o)| *j != i && o.run == e.run)
+                .map(|(_, o)| &o.contribution)
+                .collect();
+            Ok(chi2_with(r, &cov, &e.contribution, &others)? < threshold)
+        })
+        .collect()
+}
+
+/// Free parameters of an event of `shape`: its size and onset, and a time constant, duration
+/// or rise time when it has one (a turn-on transient's onset is known).
+fn event_parameters(shape: &str) -> f64 {
+    match shape {
+        "step" | "ramp" | "turn-on transient" => 2.0,
+        _ => 3.0,
+    }
 }
 
 /// The fit problem of `data` with the events' fitted contributions taken off their runs' gaps.
