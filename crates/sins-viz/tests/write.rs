@@ -67,6 +67,22 @@ fn a_written_recording_decodes_and_a_truncated_one_does_not() {
     std::fs::write(&cut, &bytes[..bytes.len() * 2 / 3]).unwrap();
     let e = verify_recording(&cut).unwrap_err();
     assert!(e.to_string().contains("cut.rrd"), "{e}");
+    // However few bytes a file lost, it is refused (the decoder alone accepted a file that
+    // lost up to the 32 bytes of its stream footer).
+    for lost in 1..=64 {
+        std::fs::write(&cut, &bytes[..bytes.len() - lost]).unwrap();
+        assert!(
+            verify_recording(&cut).is_err(),
+            "{lost} bytes lost, accepted"
+        );
+    }
+    // One flipped bit in the footer's payload fails its checksum.
+    let mut flipped = bytes.clone();
+    let entry = &bytes[bytes.len() - 32..bytes.len() - 24];
+    let start = u64::from_le_bytes(entry.try_into().unwrap()) as usize;
+    flipped[start] ^= 1;
+    std::fs::write(&cut, &flipped).unwrap();
+    assert!(verify_recording(&cut).is_err(), "a damaged footer accepted");
 }
 
 #[test]
