@@ -1,16 +1,16 @@
 //! The real error track of a run: replay its samples with the calibrated parameter set exactly
-//! as `sinsbench navigate` does (the replay is built by `sins_harness::replay_setup::build_replay`) (self-alignment, reconstruction, vertical channel held), and
+//! as `sinsbench navigate` does (the replay is built by `sins_replay::setup::build_replay`) (self-alignment, reconstruction, vertical channel held), and
 //! collect the per-second temperature means in the same pass.
 
 use crate::error::DiagError;
 use crate::source::SampleSource;
 use crate::temperature::TemperatureSeries;
-use sins_harness::replay_setup::{ReplayOptions, StartMode, VerticalMode, build_replay};
 use sins_imu::effects::{ContextTracker, EffectContext, ExtraEffect};
 use sins_imu::{Compensator, ImuErrorParams, ImuSample};
 use sins_nav::alignment::AlignmentConfig;
 use sins_nav::reconstruct::ReconstructConfig;
 use sins_nav::{ConingOrder, Geodetic, StrapdownConfig, VerticalChannel};
+use sins_replay::setup::{ReplayOptions, StartMode, VerticalMode, build_replay};
 use sins_replay::{ErrorPoint, ReplaySummary};
 
 /// How the real pipeline replays a run (must match the replay that produced a given track).

@@ -5,10 +5,10 @@
 //! configuration file). See `experiments/README.md` for the schema and
 //! `experiments/harness/report_paper.toml` for the built-in replica of the paper.
 
-use crate::replay_setup::ReplayOptions;
 use crate::summary::Comparison;
 use sins_imu::ParamModel;
 use sins_nav::ConingOrder;
+use sins_replay::setup::ReplayOptions;
 use std::path::PathBuf;
 
 /// Version of the report configuration layout.

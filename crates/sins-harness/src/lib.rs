@@ -9,7 +9,6 @@ pub mod gate_power;
 pub mod parallel;
 pub mod pipeline;
 pub mod reference;
-pub mod replay_setup;
 pub mod segments;
 pub mod shift;
 pub mod summary;

@@ -4,14 +4,14 @@
 //! [`MultiReplay`] batch by batch exactly as the simulator does.
 
 use crate::HarnessError;
-use crate::replay_setup::{ReplayOptions, build_replay};
 use crate::segments::{SegmentStretch, stretches};
 use sins_imu::{ImuErrorParams, ImuSample, ParamModel};
 use sins_kf::{
     CalibrationConfig, CalibrationError, CalibrationFilter, CalibrationResult, FilterNoise,
 };
 use sins_nav::{Geodetic, Quat};
-use sins_replay::{ErrorPoint, Replay, ReplaySummary};
+use sins_replay::setup::{ReplayOptions, build_replay};
+use sins_replay::{ErrorPoint, Replay, ReplayError, ReplaySummary};
 use sins_sim::{NoiseModel, Scenario, Simulator};
 
 /// Samples per simulator batch (bounded memory: ~2 MB of samples).
@@ -104,6 +104,14 @@ impl MultiReplay {
                     options,
                 )
                 .map(|r| (s.key.clone(), r))
+                .map_err(|source| match source {
+                    ReplayError::SingularParams { set } => HarnessError::SingularParams { set },
+                    source => HarnessError::Replay {
+                        run: run.to_string(),
+                        set: s.key.clone(),
+                        source,
+                    },
+                })
             })
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Self {

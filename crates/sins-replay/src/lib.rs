@@ -2,6 +2,7 @@
 
 mod metrics;
 mod replay;
+pub mod setup;
 
 pub use metrics::{ErrorPoint, ReplaySummary, SegmentSummary};
 pub use replay::{Replay, ReplayConfig, ReplayError, Start};

@@ -51,6 +51,12 @@ pub enum ReplayError {
     /// No navigation happened (data shorter than the alignment).
     #[error("no navigation output: the data end before alignment completes ({0})")]
     NoOutput(String),
+    /// A parameter set cannot be inverted for compensation.
+    #[error("parameter set '{set}' is singular (I + E not invertible)")]
+    SingularParams {
+        /// Parameter set key.
+        set: String,
+    },
 }
 
 // One phase per replay, switched once: the variant size difference costs nothing.

@@ -6,10 +6,10 @@ use crate::ReportError;
 use crate::progress::Progress;
 use sins_data::{DatasetReader, ReferenceRow};
 use sins_harness::pipeline::{MultiReplay, NamedParams, RunOutcome};
-use sins_harness::replay_setup::ReplayOptions;
 use sins_imu::ParamModel;
 use sins_nav::attitude::ned_from_body_euler;
 use sins_nav::{Euler, Geodetic, Quat};
+use sins_replay::setup::ReplayOptions;
 use std::path::Path;
 
 /// The reference state at one output time.

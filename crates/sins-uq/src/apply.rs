@@ -3,11 +3,11 @@
 
 use crate::assumptions::{AssumptionSet, Knob};
 use crate::draw::{Draw, Stream, element_distribution};
-use sins_harness::replay_setup::ReplayOptions;
 use sins_imu::{ImuErrorParams, ParamModel};
 use sins_kf::{params_from_vec, params_to_vec};
 use sins_nav::Vec3;
 use sins_nav::attitude::quat_about_axis;
+use sins_replay::setup::ReplayOptions;
 use sins_sim::scenario::{ChamberSegment, MotionSegment, Scenario, ThermalModel};
 
 /// The replica as the experiment files define it (the point replica of `sinsbench report`).

@@ -5,9 +5,9 @@ use crate::{argcheck, progress};
 use anyhow::{Context, Result};
 use sins_data::{DatasetInfo, DatasetReader};
 use sins_harness::pipeline::NamedParams;
-use sins_harness::replay_setup::{ReplayOptions, StartMode as HarnessStart, VerticalMode};
 use sins_imu::{ImuErrorParams, ParamModel};
 use sins_nav::{ConingOrder, Euler, NMI_M, NavState, ned_from_body_euler};
+use sins_replay::setup::{ReplayOptions, StartMode as HarnessStart, VerticalMode};
 use sins_replay::{ErrorPoint, ReplaySummary};
 use std::path::PathBuf;
 

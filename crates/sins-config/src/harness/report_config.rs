@@ -9,9 +9,9 @@ use sins_harness::config::{
     CalibrationSource, NavigationSource, ParamOrigin, ParamSetSpec, REPORT_SCHEMA, ReportConfig,
     parse_algorithm,
 };
-use sins_harness::replay_setup::{ReplayOptions, StartMode};
 use sins_harness::summary::Comparison;
 use sins_imu::ParamModel;
+use sins_replay::setup::{ReplayOptions, StartMode};
 use std::path::Path;
 
 /// The whole file as written.

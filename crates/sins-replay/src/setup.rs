@@ -1,12 +1,12 @@
 //! Replay set-up shared by every command that navigates: parameter set + options → a ready
-//! [`Replay`].
+//! [`Replay`]. The one home of "how a run is replayed": `navigate`, `report`, the uncertainty
+//! study and the diagnosis's real tracks all build their replays here.
 
-use crate::HarnessError;
+use crate::replay::{Replay, ReplayConfig, ReplayError, Start};
 use sins_imu::{Compensator, ImuErrorParams};
 use sins_nav::alignment::AlignmentConfig;
 use sins_nav::reconstruct::ReconstructConfig;
 use sins_nav::{ConingOrder, Geodetic, NavState, StrapdownConfig, VerticalChannel};
-use sins_replay::{Replay, ReplayConfig, Start};
 
 /// Vertical channel of the replay (turntable runs hold the known height).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -80,8 +80,8 @@ pub fn build_replay(
     sample_interval_s: f64,
     start_time_s: f64,
     options: &ReplayOptions,
-) -> Result<Replay, HarnessError> {
-    let compensator = Compensator::new(*params).ok_or_else(|| HarnessError::SingularParams {
+) -> Result<Replay, ReplayError> {
+    let compensator = Compensator::new(*params).ok_or_else(|| ReplayError::SingularParams {
         set: set.to_string(),
     })?;
     let vertical = match options.vertical {
