@@ -18,6 +18,7 @@
 //! the twin's noise; one pass over the data feeds every filter.
 
 use crate::error::DiagError;
+use crate::input::RunData;
 use crate::noise::NoiseSpec;
 use crate::replay::sample_context;
 use crate::sensitivity::{ColumnId, RunSensitivity};
@@ -126,6 +127,27 @@ pub struct CalibrationRun<'a> {
     pub site: &'a Geodetic,
     /// Its temperature series (rates for the temperature-rate candidates).
     pub temps: &'a TemperatureSeries,
+}
+
+impl<'a> CalibrationRun<'a> {
+    /// The run named `name` among `runs`, with its temperature series: an error naming it when
+    /// it is not there or its temperatures were not computed.
+    pub(crate) fn among(runs: &'a mut [RunData], name: &str) -> Result<Self, DiagError> {
+        let run = runs
+            .iter_mut()
+            .find(|r| r.name == name)
+            .ok_or_else(|| DiagError::input(name, "the calibration run is not among the runs"))?;
+        let temps = run
+            .temperatures
+            .as_ref()
+            .ok_or_else(|| DiagError::input(name, "temperature series missing"))?;
+        Ok(CalibrationRun {
+            run: &run.name,
+            source: run.source.as_mut(),
+            site: &run.site,
+            temps,
+        })
+    }
 }
 
 /// Recalibrate calibration run `cal` once per entry of `perturbations` (`None`: as recorded;

@@ -21,7 +21,6 @@ use crate::report::{Note, NoteKind};
 use crate::sensitivity::{ColumnId, RunSensitivity};
 use nalgebra::DVector;
 use sins_imu::{EffectKind, EffectSpec};
-use sins_nav::Vec3;
 
 /// The calibration-run events' path through the coefficients.
 pub(crate) struct AbsorbedEvents {
@@ -31,41 +30,36 @@ pub(crate) struct AbsorbedEvents {
     pub note: Note,
 }
 
-/// The effect an event describes, as fitted: kind, axis, SI size, onset and shape parameters.
-/// `None` for a kind no effect model carries.
+/// The effect an event describes, as fitted: kind, axis, SI size, onset and shape parameters
+/// (the time constant, duration or rise time it was fitted with). `None` for a kind that is
+/// not a time-local event.
 pub(crate) fn event_effect(e: &TimeLocalEvent) -> Option<EffectSpec> {
     let kind = EffectKind::from_name(&e.kind)?;
     let axis = AXES.iter().position(|a| *a == e.channel)? % 3;
-    let mut magnitude_si = Vec3::zeros();
-    magnitude_si[axis] = kind.unit().to_si(e.size);
-    let onset_s = e.onset_s;
-    Some(match kind {
-        EffectKind::AccelBiasStep => EffectSpec::AccelBiasStep {
-            step_mps2: magnitude_si,
-            time_s: onset_s,
-        },
-        EffectKind::GyroBiasStep
-        | EffectKind::GyroBiasRamp
-        | EffectKind::AccelBiasRamp
-        | EffectKind::GyroBiasTransient
-        | EffectKind::AccelBiasTransient => EffectSpec::BiasEvent {
-            kind,
-            magnitude_si,
+    let mut values = vec![0.0; kind.n_components()];
+    *values.get_mut(axis)? = kind.unit().to_si(e.size);
+    let mut spec = EffectSpec::zero(kind).with_magnitudes_si(&values)?;
+    match &mut spec {
+        EffectSpec::AccelBiasStep { time_s, .. } => *time_s = e.onset_s,
+        EffectSpec::BiasEvent {
             onset_s,
-            time_constant_s: e.time_constant_s.unwrap_or(1.0),
-        },
-        EffectKind::GyroBiasPulse
-        | EffectKind::AccelBiasPulse
-        | EffectKind::GyroBiasPlateau
-        | EffectKind::AccelBiasPlateau => EffectSpec::BiasProfile {
-            kind,
-            magnitude_si,
+            time_constant_s,
+            ..
+        } => {
+            *onset_s = e.onset_s;
+            *time_constant_s = e.time_constant_s.unwrap_or(*time_constant_s);
+        }
+        EffectSpec::BiasProfile {
             onset_s,
-            duration_s: e.duration_s?,
-            time_constant_s: 1.0,
-        },
+            duration_s,
+            ..
+        } => {
+            *onset_s = e.onset_s;
+            *duration_s = e.duration_s?;
+        }
         _ => return None,
-    })
+    }
+    Some(spec)
 }
 
 /// The path through the coefficients of the calibration run's events outside the catalogue
@@ -92,21 +86,7 @@ pub(crate) fn absorbed_events(
         return Ok(None);
     }
     let (params, noise) = (input.params, input.noise);
-    let run = input
-        .runs
-        .iter_mut()
-        .find(|r| r.name == a.run)
-        .ok_or_else(|| DiagError::input(&a.run, "the calibration run is not among the runs"))?;
-    let temps = run
-        .temperatures
-        .as_ref()
-        .ok_or_else(|| DiagError::input(&a.run, "temperature series missing"))?;
-    let cal = CalibrationRun {
-        run: &a.run,
-        source: run.source.as_mut(),
-        site: &run.site,
-        temps,
-    };
+    let cal = CalibrationRun::among(&mut input.runs, &a.run)?;
     let without = recalibrate(cal, &params, &noise, &removed, cfg.threads)?;
     // Δθ of all the events together (each measured alone; the filter is linear in them to
     // the order the columns are).
@@ -163,6 +143,7 @@ mod tests {
     use super::*;
     use sins_imu::effects::EffectContext;
     use sins_imu::{ImuErrorParams, ParamModel};
+    use sins_nav::Vec3;
 
     const UG: f64 = 9.80665e-6;
     const DEG_H: f64 = std::f64::consts::PI / 180.0 / 3600.0;

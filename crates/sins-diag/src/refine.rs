@@ -254,21 +254,7 @@ fn params_without(
     let Some(a) = absorption else {
         return Ok(*base_setup.params);
     };
-    let run = input
-        .runs
-        .iter_mut()
-        .find(|r| r.name == a.run)
-        .ok_or_else(|| DiagError::input(&a.run, "calibration run not among the runs"))?;
-    let temps = run
-        .temperatures
-        .as_ref()
-        .ok_or_else(|| DiagError::input(&run.name, "temperature series missing"))?;
-    let cal = CalibrationRun {
-        run: &run.name,
-        source: run.source.as_mut(),
-        site: &run.site,
-        temps,
-    };
+    let cal = CalibrationRun::among(&mut input.runs, &a.run)?;
     a.without_exact(cal, base_setup.params, base_setup.noise, kind, values)
 }
 

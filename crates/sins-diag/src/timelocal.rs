@@ -140,31 +140,9 @@ pub(crate) fn time_local_events(
     // (a free intensity absorbs a step or a transient; its chi-square drop can even exceed the
     // event's, since it also bends to the misfit of the event's grid and shape).
     if p_value >= cfg.alpha {
-        // Unless every one of those events is a pulse or a ramp to a plateau, the walk's own
-        // wander makes each insignificant, and the walk says it with fewer parameters (BIC):
-        // then the events are the walk's excursions, fitted one by one. (A step or a ramp is
-        // refused as before: a walk fits one more freely than its single intensity counts
-        // for, and at the walk's 20 min lumps a step is no outlier increment.)
-        let excursions = outside
-            .iter()
-            .all(|&i| matches!(events.events[i].shape.as_str(), "pulse" | "plateau"));
-        let threshold = events.threshold_chi2;
-        let under = match excursions {
-            true => under_walk(&runs, &signals, &outside, top, first, kind, threshold)?,
-            false => vec![false],
-        };
-        let rows: usize = sc.data.iter().map(|d| d.gap.len()).sum();
-        let ln_n = (rows.max(2) as f64).ln();
-        let k_walk = top.components.iter().filter(|c| c.retained).count() as f64;
-        let walk_bic = top.dchi2 - k_walk * ln_n;
-        let events_bic: f64 = outside
-            .iter()
-            .map(|&i| {
-                let e = &events.events[i];
-                e.chi2 - event_parameters(&e.shape) * ln_n
-            })
-            .sum();
-        if under.iter().all(|&u| u) && walk_bic > events_bic {
+        // Unless the events are the walk's excursions, fitted one by one (see `excursions`).
+        let kept = excursions(&runs, &signals, &events, &outside, top, first, kind, sc)?;
+        if let Some((walk_bic, events_bic)) = kept {
             let text = format!(
                 "{}: kept; the {} time-local event(s) outside the catalogue are insignificant \
                  under its fitted wander, and it explains the gap with fewer parameters (BIC \
@@ -221,6 +199,55 @@ pub(crate) fn time_local_events(
         }
     }
     Ok((events, signals))
+}
+
+/// The walk `top` keeps its evidence against the events `outside` when every one is a pulse or
+/// a ramp to a plateau, its BIC gain beats theirs (Δχ² − k ln n: one intensity per retained
+/// component against size, onset and duration per event), and its fitted wander makes each
+/// insignificant: the events are then its excursions, fitted one by one. A step or a ramp is
+/// refused as before: a walk fits one more freely than its single intensity counts for, and at
+/// the walk's 20 min lumps a step is no outlier increment. Returns the two BIC gains when kept.
+#[allow(clippy::too_many_arguments)]
+fn excursions(
+    runs: &[ScanRun<'_>],
+    signals: &[EventSignal],
+    events: &EventScan,
+    outside: &[usize],
+    top: &CandidateReport,
+    first: usize,
+    kind: EffectKind,
+    sc: &ScanScope<'_>,
+) -> Result<Option<(f64, f64)>, DiagError> {
+    let shapes_only = outside
+        .iter()
+        .all(|&i| matches!(events.events[i].shape.as_str(), "pulse" | "plateau"));
+    if !shapes_only {
+        return Ok(None);
+    }
+    let rows: usize = sc.data.iter().map(|d| d.gap.len()).sum();
+    let ln_n = (rows.max(2) as f64).ln();
+    let k_walk = top.components.iter().filter(|c| c.retained).count() as f64;
+    let walk_bic = top.dchi2 - k_walk * ln_n;
+    let events_bic: f64 = outside
+        .iter()
+        .map(|&i| {
+            let e = &events.events[i];
+            e.chi2 - event_parameters(&e.shape) * ln_n
+        })
+        .sum();
+    if walk_bic <= events_bic {
+        return Ok(None);
+    }
+    let under = under_walk(
+        runs,
+        signals,
+        outside,
+        top,
+        first,
+        kind,
+        events.threshold_chi2,
+    )?;
+    Ok(under.iter().all(|&u| u).then_some((walk_bic, events_bic)))
 }
 
 /// Whether each of the events `outside` is insignificant (below `threshold`) under the

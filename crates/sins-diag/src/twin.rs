@@ -80,25 +80,11 @@ pub(crate) fn calibration_absorption(
     };
     let params = input.params;
     let noise = input.noise;
-    let run = input
-        .runs
-        .iter_mut()
-        .find(|r| r.name == name)
-        .ok_or_else(|| DiagError::input(&name, "the calibration run is not among the runs"))?;
-    let temps = run
-        .temperatures
-        .as_ref()
-        .ok_or_else(|| DiagError::input(&name, "temperature series missing"))?;
     let comps: Vec<(EffectKind, usize)> = layouts
         .iter()
         .flat_map(|l| (0..l.n).map(move |c| (l.kind, c)))
         .collect();
-    let cal = CalibrationRun {
-        run: &name,
-        source: run.source.as_mut(),
-        site: &run.site,
-        temps,
-    };
+    let cal = CalibrationRun::among(&mut input.runs, &name)?;
     let a = absorption(cal, &params, &noise, &comps, cfg.threads)?;
     for s in sens.iter_mut() {
         a.fold(s, None);

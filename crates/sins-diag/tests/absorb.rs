@@ -22,6 +22,16 @@ fn calibration_scenario() -> sins_sim::Scenario {
     e.scenarios[0].clone()
 }
 
+/// `sc` simulated and calibrated with the 42-state filter (at the truth's reference
+/// temperature).
+fn calibrate(sc: &sins_sim::Scenario) -> sins_kf::CalibrationResult {
+    let reference = sc.truth.reference_temperature_degc;
+    simulate_and_calibrate(sc, &[ParamModel::States42], reference, &mut |_| {})
+        .expect("calibration")
+        .pop()
+        .expect("one result")
+}
+
 /// The calibration run `sc` as the absorption takes it.
 fn cal_run<'a>(
     source: &'a mut sins_diag::source::SimSource,
@@ -39,13 +49,6 @@ fn cal_run<'a>(
 #[test]
 fn absorption_predicts_the_calibration_of_an_imu_with_the_effect() {
     let cal = calibration_scenario();
-    let reference = cal.truth.reference_temperature_degc;
-    let calibrate = |sc: &sins_sim::Scenario| {
-        simulate_and_calibrate(sc, &[ParamModel::States42], reference, &mut |_| {})
-            .expect("calibration")
-            .pop()
-            .expect("one result")
-    };
     let plain = calibrate(&cal);
     // 85 ug/g^2 on the z accelerometer: 8.5 times typical, negligible in navigation by itself.
     let kind = EffectKind::AccelQuadratic;
@@ -141,13 +144,6 @@ fn a_step_in_the_calibration_run_is_recalibrated_away() {
     use sins_diag::absorb::recalibrate;
     use sins_imu::EffectSpec;
     let cal = calibration_scenario();
-    let reference = cal.truth.reference_temperature_degc;
-    let calibrate = |sc: &sins_sim::Scenario| {
-        simulate_and_calibrate(sc, &[ParamModel::States42], reference, &mut |_| {})
-            .expect("calibration")
-            .pop()
-            .expect("one result")
-    };
     // A 300 ug step on the x accelerometer two hours into the 4.2 h scheme.
     let step = |ug: f64| EffectSpec::AccelBiasStep {
         step_mps2: sins_nav::Vec3::new(ug * sins_nav::UG, 0.0, 0.0),
