@@ -45,14 +45,15 @@ impl TempPath {
     }
 
     /// fsync `file` (the temporary file, fully written), rename it over the target and fsync
-    /// the directory (best effort).
+    /// the directory (best effort), by [`Temporary::commit_file`].
     pub fn commit(self, file: File) -> Result<(), DataError> {
-        file.sync_all()
-            .map_err(|e| DataError::io(&self.target, "syncing the temporary file", e))?;
-        drop(file);
-        self.temp
-            .commit(&self.target)
-            .map_err(|e| DataError::io(&self.target, "renaming the temporary file into place", e))
+        self.temp.commit_file(file, &self.target).map_err(|e| {
+            DataError::io(
+                &self.target,
+                "syncing the temporary file and renaming it into place",
+                e,
+            )
+        })
     }
 }
 

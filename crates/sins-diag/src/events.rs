@@ -89,7 +89,7 @@ impl Default for EventScanConfig {
             onset_every_s: 120,
             time_constants_s: vec![300.0, 600.0, 1200.0, 2400.0, 4800.0, 9600.0],
             // Off by default: with pulses and plateaus in the family, the events absorb a true
-            // bias random walk (tests/walk_shape.rs: a 0.01 deg/h/√h gyro walk loses its
+            // bias random walk (tests/it/walk_shape.rs: a 0.01 deg/h/√h gyro walk loses its
             // evidence to them, and an oscillation's half-cycles taken as pulses let a walk
             // pass). [`EventScanConfig::with_pulses_and_plateaus`] turns them on.
             pulse_durations_s: Vec::new(),

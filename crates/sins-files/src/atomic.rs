@@ -193,6 +193,14 @@ impl Temporary {
         &self.path
     }
 
+    /// Syncs `file` (this temporary file, fully written) to disk, closes it and commits it to
+    /// `target` ([`Temporary::commit`]): the one way a written file reaches its place.
+    pub fn commit_file(self, file: File, target: &Path) -> std::io::Result<()> {
+        file.sync_all()?;
+        drop(file);
+        self.commit(target)
+    }
+
     /// Renames the temporary to `target` (inside a [`commit_section`]: a signal cannot cut it in
     /// half) and syncs the directory; the temporary is then no longer removed.
     pub fn commit(mut self, target: &Path) -> std::io::Result<()> {
@@ -439,9 +447,7 @@ fn roll_forward(staging: &Path, dir: &Path) -> Result<usize, String> {
 pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let (tmp, mut file) = Temporary::file(path)?;
     file.write_all(bytes)?;
-    file.sync_all()?;
-    drop(file);
-    tmp.commit(path)
+    tmp.commit_file(file, path)
 }
 
 /// What a temporary name says: the target's name, the kind and the process that made it.

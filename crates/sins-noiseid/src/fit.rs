@@ -93,7 +93,7 @@ const Z95: f64 = 1.644_853_626_951_472_2;
 
 /// Relative 1-sigma of a known offset (the quantization model of a gyro at rest: the
 /// realised sawtooth average departs from its expectation by a few per cent, see
-/// `tests/analytic.rs`); independent between points.
+/// `tests/it/analytic.rs`); independent between points.
 const OFFSET_UNCERTAINTY: f64 = 0.05;
 
 struct Solved {

@@ -19,7 +19,7 @@
 //! real sensor's temperature alone can make, and a twin within that is still a fair model.
 //!
 //! Measured reach for a gyro turn-on transient (two 3 h paper-noise runs, the transient in both;
-//! `tests/identify.rs`): time constants of 5-20 min at 0.2-1 deg/h are named here and their
+//! `tests/it/identify.rs`): time constants of 5-20 min at 0.2-1 deg/h are named here and their
 //! first hour left out. Shorter (2.5 min) and slower (40-90 min) ones are not: the first are
 //! diluted in their hour, the second lift the first chunks together. The direct test of a
 //! decay from each run's first sample ([`crate::turnon`]) names those.

@@ -1,0 +1,13 @@
+//! The integration tests of `sins-diag`, one test binary: each module was its own binary, and
+//! every one linked the crate's whole dependency tree (a 150 MB binary each, gigabytes of CI disk).
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is its failure message
+
+mod absorb;
+mod common;
+mod diagnose;
+mod linear_vs_nonlinear;
+mod noise_calibration;
+mod refine;
+mod rivals;
+mod time_local;
+mod walk_shape;

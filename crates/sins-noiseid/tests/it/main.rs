@@ -1,0 +1,7 @@
+//! The integration tests of `sins-noiseid`, one test binary: each module was its own binary, and
+//! every one linked the crate's whole dependency tree (a 150 MB binary each, gigabytes of CI disk).
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is its failure message
+
+mod analytic;
+mod identify;
+mod still;

@@ -1,0 +1,10 @@
+//! The integration tests of `sins-sim`, one test binary: each module was its own binary, and
+//! every one linked the crate's whole dependency tree (a 150 MB binary each, gigabytes of CI disk).
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is its failure message
+
+mod common;
+mod effects;
+mod generator;
+mod motion_increments;
+mod noise;
+mod thermal;
