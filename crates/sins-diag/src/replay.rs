@@ -1,6 +1,7 @@
 //! The real error track of a run: replay its samples with the calibrated parameter set exactly
-//! as `sinsbench navigate` does (the replay is built by `sins_replay::setup::build_replay`) (self-alignment, reconstruction, vertical channel held), and
-//! collect the per-second temperature means in the same pass.
+//! as `sinsbench navigate` does (self-alignment, reconstruction, vertical channel held; the
+//! replay is built by `sins_replay::setup::build_replay` from [`ReplaySetup::replay_options`]),
+//! and collect the per-second temperature means in the same pass.
 
 use crate::error::DiagError;
 use crate::source::SampleSource;
@@ -13,7 +14,8 @@ use sins_nav::{ConingOrder, Geodetic, StrapdownConfig, VerticalChannel};
 use sins_replay::setup::{ReplayOptions, StartMode, VerticalMode, build_replay};
 use sins_replay::{ErrorPoint, ReplaySummary};
 
-/// How the real pipeline replays a run (must match the replay that produced a given track).
+/// The part of a replay the diagnosis lets a caller choose (must match the replay that produced
+/// a given track); [`ReplaySetup::replay_options`] turns it into `sins_replay`'s options.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReplaySetup {
     /// Self-alignment settings (default: 20 min, as `navigate --start align`).
@@ -38,6 +40,22 @@ impl Default for ReplaySetup {
 }
 
 impl ReplaySetup {
+    /// The replay options this set-up stands for: `navigate --start align` with its alignment,
+    /// increment algorithm and reconstruction, the height held, 1 Hz output and the nominal
+    /// sample interval (the twin is built on it, so the real track is too). The diagnosis
+    /// replays nothing else: its sensitivities replicate exactly this alignment and channel.
+    pub fn replay_options(&self) -> ReplayOptions {
+        ReplayOptions {
+            coning: self.coning,
+            vertical: VerticalMode::Hold,
+            start: StartMode::Align(self.alignment),
+            reconstruct: self.reconstruct,
+            output_interval_s: 1.0,
+            stamped_intervals: false,
+            start_s: None,
+        }
+    }
+
     /// The mechanization settings for data sampled every `h_s` at `site` (height held).
     pub fn strapdown(&self, h_s: f64, site: &Geodetic) -> StrapdownConfig {
         StrapdownConfig {
@@ -106,17 +124,7 @@ fn replay_impl(
 ) -> Result<RealTrack, DiagError> {
     let h = source.sample_interval_s();
     let t0 = source.start_time_s();
-    let options = ReplayOptions {
-        coning: setup.coning,
-        vertical: VerticalMode::Hold,
-        start: StartMode::Align(setup.alignment),
-        reconstruct: setup.reconstruct,
-        output_interval_s: 1.0,
-        // The twin is built on the nominal interval, so the real track is too.
-        stamped_intervals: false,
-        start_s: None,
-    };
-    let mut replay = build_replay(run, params, *site, h, t0, &options)
+    let mut replay = build_replay(run, params, *site, h, t0, &setup.replay_options())
         .map_err(|e| DiagError::input(run, e.to_string()))?;
     let comp = Compensator::new(*params)
         .ok_or_else(|| DiagError::input(run, "parameter set is singular"))?;

@@ -1,16 +1,7 @@
-//! System-level calibration Kalman filter of Wang et al. 2021 (section 3.1): the 42-state
-//! error-state filter (9 navigation errors, 21 constant coefficients of eqs (1)-(2) and the 12
-//! accelerometer temperature coefficients, eq (8)) and its 30-state variant, run on turntable
-//! data after a stationary self-alignment, with velocity-against-zero and position-against-site
-//! measurements (eqs 9-11) and closed-loop feedback of navigation and coefficient errors.
+#![doc = include_str!("../README.md")]
 //!
-//! Everything is SI. Usage: build a [`CalibrationConfig`], create a [`CalibrationFilter`] with
-//! an initial estimate (usually [`sins_imu::ImuErrorParams::ideal`]), [`CalibrationFilter::push`]
-//! every raw [`sins_imu::ImuSample`] and [`CalibrationFilter::finish`] to get a
-//! [`CalibrationResult`]: coefficients, their 1-sigma, the convergence history and the
-//! observability report.
+//! ## Design choices
 //!
-//! Design choices:
 //! - **Closed loop** ([`filter`]): navigation errors are corrected in the strapdown solution and
 //!   coefficient errors added to the running estimate after every update; the estimate
 //!   compensates the following raw samples exactly (eqs 3-5), so the error states are zero before

@@ -1,3 +1,7 @@
+#![doc = include_str!("../README.md")]
+//!
+//! ## Method
+//!
 //! The twin's sensor-noise model identified from the data: the still stretches of real runs
 //! (segments labelled `alignment` / `stationary`, or, in a run without labels, the stretches
 //! the stillness detector [`still`] finds; motion inside a labelled stretch is found and left
