@@ -11,7 +11,6 @@ mod meta;
 mod pq_batch;
 mod pq_column;
 mod pq_dict;
-mod pq_footer;
 mod pq_pages;
 mod pq_read;
 mod pq_segment;

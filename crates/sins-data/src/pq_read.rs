@@ -40,13 +40,12 @@ pub(crate) struct ParquetSource {
 /// Open and validate a Parquet dataset.
 pub(crate) fn open_parquet(
     path: &Path,
-    mut f: File,
+    f: File,
 ) -> Result<(DatasetInfo, ParquetSource), DataError> {
     let file_len = f
         .metadata()
         .map_err(|e| DataError::io(path, "reading the file size", e))?
         .len();
-    crate::pq_footer::check_footer(path, &mut f, file_len)?;
     let metadata = ParquetMetaDataReader::new()
         .parse_and_finish(&f)
         .map_err(|e| pq_err(path, "reading the footer", e))?;
@@ -216,14 +215,12 @@ fn describe(t: &Type) -> String {
     }
     let physical = t.get_physical_type();
     let name = match (physical, info.logical_type_ref()) {
-        (
-            _,
-            Some(LogicalType::Integer {
-                bit_width,
-                is_signed,
-            }),
-        ) => {
-            format!("{}Int{bit_width}", if *is_signed { "" } else { "U" })
+        (_, Some(LogicalType::Integer(int))) => {
+            format!(
+                "{}Int{}",
+                if int.is_signed { "" } else { "U" },
+                int.bit_width
+            )
         }
         (PhysicalType::BYTE_ARRAY, _) if is_string(t) => "String".to_string(),
         (PhysicalType::BOOLEAN, _) => "Boolean".to_string(),
