@@ -1,13 +1,12 @@
-//! Allan-deviation plots: log-log ADEV against averaging time, data with their confidence band
-//! and the fitted model, one panel per sensor triad. The chart axes are linear, so the plot
-//! draws `log10` of both quantities and says so in the axis labels (tick `-1` is 0.1, `2` is
-//! 100).
+//! Allan-deviation plots: ADEV against averaging time on logarithmic axes (both
+//! [`Panel::log_x`] and [`Panel::log_y`]; decade ticks labelled with the value, `0.01 .. 1000`
+//! s), data with their confidence band and the fitted model, one panel per sensor triad.
 
 use crate::color::series_color;
 use crate::{Band, Figure, LegendPosition, Line, Panel};
 
-/// One channel's Allan deviation (any rate unit, the same for all its vectors; non-positive
-/// values leave a gap).
+/// One channel's Allan deviation (any rate unit, the same for all its vectors; values that are
+/// not positive, or not finite, leave a gap on the log axes).
 #[derive(Debug, Clone, Copy)]
 pub struct AllanSeries<'a> {
     /// Legend label (e.g. `x`).
@@ -35,35 +34,25 @@ pub struct AllanPanel<'a> {
     pub series: Vec<AllanSeries<'a>>,
 }
 
-fn log10s(v: &[f64]) -> Vec<f64> {
-    v.iter()
-        .map(|&x| {
-            if x > 0.0 && x.is_finite() {
-                x.log10()
-            } else {
-                f64::NAN
-            }
-        })
-        .collect()
-}
-
-/// A figure of stacked Allan panels (shared x axis).
+/// A figure of stacked Allan panels: a shared logarithmic x axis (`tau [s]`), a logarithmic y
+/// axis per panel (`ADEV [unit]`).
 pub fn allan_figure(title: &str, panels: &[AllanPanel<'_>]) -> Figure {
     let mut fig = Figure::new().title(title).share_x(true);
     for p in panels {
         let mut panel = Panel::new(p.title)
-            .x_label("log10 tau [s]")
-            .y_label(format!("log10 ADEV [{}]", p.unit))
+            .x_label("tau [s]")
+            .y_label(format!("ADEV [{}]", p.unit))
+            .log_x()
+            .log_y()
             .legend(LegendPosition::TopRight);
         for (k, s) in p.series.iter().enumerate() {
             let color = series_color(k);
-            let x = log10s(s.tau_s);
             panel = panel
-                .band(Band::new("", x.clone(), log10s(s.lo), log10s(s.hi)).color(color))
-                .line(Line::new(s.label, x.clone(), log10s(s.adev)).color(color));
+                .band(Band::new("", s.tau_s, s.lo, s.hi).color(color))
+                .line(Line::new(s.label, s.tau_s, s.adev).color(color));
             if !s.fit.is_empty() {
                 panel = panel.line(
-                    Line::new(format!("{} fit", s.label), x, log10s(s.fit))
+                    Line::new(format!("{} fit", s.label), s.tau_s, s.fit)
                         .color(color)
                         .dashed(),
                 );

@@ -68,6 +68,19 @@ pub enum PlotError {
         /// The accepted range.
         allowed: &'static str,
     },
+    /// Panels of a figure with a shared x axis ([`crate::Figure::share_x`]) disagree on whether
+    /// it is logarithmic ([`crate::Panel::log_x`]).
+    #[error(
+        "panel {panel} ({panel_title:?}) has a {scale} x axis but panel 0 has not; a shared x axis is logarithmic in every panel or in none"
+    )]
+    SharedXScaleMismatch {
+        /// Zero-based index of the first panel that differs from panel 0, top to bottom.
+        panel: usize,
+        /// Its title.
+        panel_title: String,
+        /// Its x axis: "logarithmic" or "linear".
+        scale: &'static str,
+    },
     /// The PNG encoder failed.
     #[error("PNG encoding failed: {0}")]
     Png(#[from] png::EncodingError),

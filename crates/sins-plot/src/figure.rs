@@ -4,6 +4,7 @@ use crate::canvas::RgbImage;
 use crate::color::Rgb;
 use crate::error::PlotError;
 use crate::layout::{Frame, Metrics, PanelGeometry, layout};
+use crate::log_scale::{panel_to_axis, spans_to_axis};
 use crate::panel::Panel;
 use crate::render::draw_panel;
 use crate::series::Span;
@@ -81,13 +82,15 @@ impl Figure {
     }
 
     /// Shares the x axis between all panels: one range (the union of the panels' ranges unless
-    /// [`Figure::x_range`] fixes it), tick labels and x label only under the bottom panel.
+    /// [`Figure::x_range`] fixes it), tick labels and x label only under the bottom panel. The
+    /// panels must agree on a logarithmic x axis ([`Panel::log_x`] in all or none).
     pub fn share_x(mut self, shared: bool) -> Self {
         self.share_x = shared;
         self
     }
 
-    /// Fixes the shared x range to `[lo, hi]`, data units (only with [`Figure::share_x`]).
+    /// Fixes the shared x range to `[lo, hi]`, data units (only with [`Figure::share_x`]; positive
+    /// on a logarithmic x axis).
     pub fn x_range(mut self, lo: f64, hi: f64) -> Self {
         self.x_range = Some((lo, hi));
         self
@@ -142,12 +145,14 @@ impl Figure {
     }
 
     /// Draws the figure into an RGB image and reports each panel's geometry. Fails on an empty
-    /// figure, an unusable size, series of mismatched lengths, invalid ranges or styles.
+    /// figure, an unusable size, series of mismatched lengths, invalid ranges or styles, or
+    /// panels that disagree on a shared logarithmic x axis.
     pub fn render(&self) -> Result<RenderedFigure, PlotError> {
         self.check_size()?;
         for (i, p) in self.panels.iter().enumerate() {
             crate::validate::check_panel(i, p, &self.spans)?;
         }
+        crate::validate::check_shared_x(&self.panels, self.share_x, self.x_range)?;
         let m = Metrics::new(self.scale);
         let frame = Frame {
             width_px: self.width_px,
@@ -167,7 +172,17 @@ impl Figure {
         let last = self.panels.len() - 1;
         for (i, (p, g)) in self.panels.iter().zip(&geometries).enumerate() {
             let x_labels = !self.share_x || i == last;
-            draw_panel(&mut image, p, &self.spans, g, &m, x_labels);
+            // Log axes: data, spans and ticks in log10, drawn as on linear axes.
+            let spans = spans_to_axis(&self.spans, p.x_log);
+            let axis_panel = panel_to_axis(p);
+            draw_panel(
+                &mut image,
+                &axis_panel,
+                &spans,
+                &g.in_axis_units(),
+                &m,
+                x_labels,
+            );
         }
         Ok(RenderedFigure {
             image,

@@ -1,39 +1,58 @@
 //! Figure layout: axis ranges (fixed, tight or 'nice'), tick choice, and where each panel's plot
-//! area lies. All panels share the same left edge so stacked x axes line up.
+//! area lies. All panels share the same left edge so stacked x axes line up. Ranges and ticks
+//! are in data units, also on log axes (where only positive values count).
 
 use crate::canvas::Rect;
 use crate::error::PlotError;
+use crate::log_scale::{ticks_to_axis, to_axis};
+use crate::log_ticks::log_ticks;
 use crate::panel::Panel;
 use crate::text::{text_height_px, text_width_px};
 use crate::ticks::{Ticks, nice_ticks};
 
-/// Where a panel's data went: its plot area in the image and its axes. Data map linearly onto
-/// pixel centres: x = `x_ticks.lo` lands on the centre of the first column of the plot area,
-/// `x_ticks.hi` on the centre of the last; y = `y_ticks.hi` on the top row, `y_ticks.lo` on the
-/// bottom row.
+/// Where a panel's data went: its plot area in the image and its axes. Data map linearly (on a
+/// log axis, their `log10` maps linearly; see [`Ticks::log`]) onto pixel centres: x =
+/// `x_ticks.lo` lands on the centre of the first column of the plot area, `x_ticks.hi` on the
+/// centre of the last; y = `y_ticks.hi` on the top row, `y_ticks.lo` on the bottom row.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PanelGeometry {
     /// The plot area (inside the axis frame), image pixels.
     pub plot_area: Rect,
-    /// The x axis: range and ticks, data units.
+    /// The x axis: range and ticks, data units, and whether it is logarithmic.
     pub x_ticks: Ticks,
-    /// The y axis: range and ticks, data units.
+    /// The y axis: range and ticks, data units, and whether it is logarithmic.
     pub y_ticks: Ticks,
 }
 
 impl PanelGeometry {
-    /// Continuous image x coordinate of data `x` (pixel i spans [i, i+1), centre i + 0.5).
+    /// Continuous image x coordinate of data `x` (pixel i spans [i, i+1), centre i + 0.5); NaN
+    /// for an `x` that is not positive on a log axis.
     pub fn x_to_px(&self, x: f64) -> f64 {
         let a = &self.plot_area;
-        let t = (x - self.x_ticks.lo) / (self.x_ticks.hi - self.x_ticks.lo);
+        let log = self.x_ticks.log;
+        let (lo, hi) = (to_axis(self.x_ticks.lo, log), to_axis(self.x_ticks.hi, log));
+        let t = (to_axis(x, log) - lo) / (hi - lo);
         f64::from(a.x) + 0.5 + t * f64::from(a.width - 1)
     }
 
-    /// Continuous image y coordinate of data `y` (row j spans [j, j+1), centre j + 0.5).
+    /// Continuous image y coordinate of data `y` (row j spans [j, j+1), centre j + 0.5); NaN
+    /// for a `y` that is not positive on a log axis.
     pub fn y_to_px(&self, y: f64) -> f64 {
         let a = &self.plot_area;
-        let t = (self.y_ticks.hi - y) / (self.y_ticks.hi - self.y_ticks.lo);
+        let log = self.y_ticks.log;
+        let (lo, hi) = (to_axis(self.y_ticks.lo, log), to_axis(self.y_ticks.hi, log));
+        let t = (hi - to_axis(y, log)) / (hi - lo);
         f64::from(a.y) + 0.5 + t * f64::from(a.height - 1)
+    }
+
+    /// The same geometry in axis units: a log axis's ends and ticks as their `log10`, read as a
+    /// linear axis (for drawing data already in axis units).
+    pub(crate) fn in_axis_units(&self) -> PanelGeometry {
+        PanelGeometry {
+            plot_area: self.plot_area,
+            x_ticks: ticks_to_axis(&self.x_ticks),
+            y_ticks: ticks_to_axis(&self.y_ticks),
+        }
     }
 }
 
@@ -111,48 +130,60 @@ fn range_error(
     }
 }
 
-fn widen(acc: Option<(f64, f64)>, v: f64) -> Option<(f64, f64)> {
-    if !v.is_finite() {
+/// Whether `v` can be drawn on an axis: finite, and positive on a log axis.
+fn drawable(v: f64, log: bool) -> bool {
+    v.is_finite() && (!log || v > 0.0)
+}
+
+fn widen(acc: Option<(f64, f64)>, v: f64, log: bool) -> Option<(f64, f64)> {
+    if !drawable(v, log) {
         return acc;
     }
     Some(acc.map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))))
 }
 
-/// Tight range of the finite x values of all lines and bands of `panel`.
+/// Tight range of the drawable x values of all lines and bands of `panel`.
 fn data_x_range(panel: &Panel) -> Option<(f64, f64)> {
     let xs = panel
         .lines
         .iter()
         .map(|l| &l.x)
         .chain(panel.bands.iter().map(|b| &b.x));
-    xs.flatten().fold(None, |acc, &v| widen(acc, v))
+    xs.flatten()
+        .fold(None, |acc, &v| widen(acc, v, panel.x_log))
 }
 
-/// Range of the finite y values (band bounds included) at x inside `[xlo, xhi]`, plus the
-/// panel's `y_include` values.
+/// Range of the drawable y values (band bounds included) at x inside `[xlo, xhi]`, plus the
+/// panel's drawable `y_include` values.
 fn data_y_range(panel: &Panel, xlo: f64, xhi: f64) -> Option<(f64, f64)> {
+    let log = panel.y_log;
     let inside = |x: f64| x >= xlo && x <= xhi;
-    let mut acc = panel.y_include.iter().fold(None, |acc, &v| widen(acc, v));
+    let mut acc = panel
+        .y_include
+        .iter()
+        .fold(None, |acc, &v| widen(acc, v, log));
     for l in &panel.lines {
         for (&x, &y) in l.x.iter().zip(&l.y) {
             if inside(x) {
-                acc = widen(acc, y);
+                acc = widen(acc, y, log);
             }
         }
     }
     for b in &panel.bands {
         for ((&x, &lo), &hi) in b.x.iter().zip(&b.lower).zip(&b.upper) {
-            if inside(x) && lo.is_finite() && hi.is_finite() {
-                acc = widen(widen(acc, lo), hi);
+            if inside(x) && drawable(lo, log) && drawable(hi, log) {
+                acc = widen(widen(acc, lo, log), hi, log);
             }
         }
     }
     acc
 }
 
-/// A usable automatic range: no data gives [0, 1], a single value v gives v +- 1% (+-1 for 0).
-fn auto_range(r: Option<(f64, f64)>) -> (f64, f64) {
+/// A usable automatic range: no data gives [0, 1] ([1, 10] on a log axis), a single value v
+/// gives v +- 1% (+-1 for 0; a log axis has no 0).
+fn auto_range(r: Option<(f64, f64)>, log: bool) -> (f64, f64) {
     match r {
+        None if log => (1.0, 10.0),
         None => (0.0, 1.0),
         Some((lo, hi)) if hi - lo <= lo.abs().max(hi.abs()) * 1e-10 => {
             let c = 0.5 * (lo + hi);
@@ -163,11 +194,20 @@ fn auto_range(r: Option<(f64, f64)>) -> (f64, f64) {
     }
 }
 
+/// Ticks for the range `r`: [`log_ticks`] on a log axis, [`nice_ticks`] otherwise.
+fn axis_ticks(r: (f64, f64), log: bool, max_intervals: usize, expand: bool) -> Option<Ticks> {
+    if log {
+        log_ticks(r.0, r.1, max_intervals, expand)
+    } else {
+        nice_ticks(r.0, r.1, max_intervals, expand)
+    }
+}
+
 /// The x range of panel `i`: fixed, or the tight data range.
 fn panel_x_range(i: usize, p: &Panel) -> Result<(f64, f64), PlotError> {
     match p.x_range {
         Some(r) => {
-            if nice_ticks(r.0, r.1, 1, false).is_none() {
+            if axis_ticks(r, p.x_log, 1, false).is_none() {
                 return Err(range_error(
                     i,
                     p,
@@ -178,7 +218,7 @@ fn panel_x_range(i: usize, p: &Panel) -> Result<(f64, f64), PlotError> {
             }
             Ok(r)
         }
-        None => Ok(auto_range(data_x_range(p))),
+        None => Ok(auto_range(data_x_range(p), p.x_log)),
     }
 }
 
@@ -210,7 +250,7 @@ pub(crate) fn layout(
     let shared = match (fig.share_x, fig.x_range) {
         (false, _) => None,
         (true, Some(r)) => {
-            if nice_ticks(r.0, r.1, 1, false).is_none() {
+            if axis_ticks(r, panels[0].x_log, 1, false).is_none() {
                 let why = "the figure's shared x range must be finite and increasing";
                 return Err(range_error(0, &panels[0], "x", r, why));
             }
@@ -227,11 +267,11 @@ pub(crate) fn layout(
         let xr = shared.unwrap_or(x_ranges[i]);
         let max_intervals = (plot_h / (3 * m.text_h + m.u(6))).max(2) as usize;
         let ticks = match p.y_range {
-            Some(r) => nice_ticks(r.0, r.1, max_intervals, false)
+            Some(r) => axis_ticks(r, p.y_log, max_intervals, false)
                 .ok_or_else(|| range_error(i, p, "y", r, "bounds must be finite and increasing"))?,
             None => {
-                let r = auto_range(data_y_range(p, xr.0, xr.1));
-                nice_ticks(r.0, r.1, max_intervals, true)
+                let r = auto_range(data_y_range(p, xr.0, xr.1), p.y_log);
+                axis_ticks(r, p.y_log, max_intervals, true)
                     .ok_or_else(|| range_error(i, p, "y", r, "data range cannot be represented"))?
             }
         };
@@ -255,7 +295,7 @@ pub(crate) fn layout(
     let mut out = Vec::with_capacity(n);
     for (i, (p, y_ticks)) in panels.iter().zip(y_axes).enumerate() {
         let xr = shared.unwrap_or(x_ranges[i]);
-        let x_ticks = x_axis_ticks(xr, plot_w, m)
+        let x_ticks = x_axis_ticks(xr, p.x_log, plot_w, m)
             .ok_or_else(|| range_error(i, p, "x", xr, "range cannot be represented"))?;
         out.push(PanelGeometry {
             plot_area: Rect {
@@ -273,17 +313,26 @@ pub(crate) fn layout(
 
 /// x ticks over the tight range `r`: as many as fit with their labels at least two characters
 /// apart.
-fn x_axis_ticks(r: (f64, f64), plot_w: i32, m: &Metrics) -> Option<Ticks> {
+fn x_axis_ticks(r: (f64, f64), log: bool, plot_w: i32, m: &Metrics) -> Option<Ticks> {
     let mut max_intervals = (plot_w / (50 * m.scale as i32 + 20)).max(1) as usize;
     loop {
-        let t = nice_ticks(r.0, r.1, max_intervals, false)?;
+        let t = axis_ticks(r, log, max_intervals, false)?;
         let widest = t
             .labels
             .iter()
             .map(|l| text_width_px(l, m.scale))
             .max()
             .unwrap_or(0);
-        let step_px = t.step / (r.1 - r.0) * f64::from(plot_w - 1);
+        // The closest pair of ticks (a log axis's ticks need not be evenly spaced), as a
+        // fraction of the axis.
+        let closest = if log {
+            let a = ticks_to_axis(&t);
+            let gap = a.values.windows(2).map(|w| w[1] - w[0]);
+            gap.fold(f64::INFINITY, f64::min) / (a.hi - a.lo)
+        } else {
+            t.step / (r.1 - r.0)
+        };
+        let step_px = closest * f64::from(plot_w - 1);
         if max_intervals <= 1 || step_px >= f64::from(widest + 12 * m.scale) {
             return Some(t);
         }

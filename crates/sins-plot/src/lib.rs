@@ -10,6 +10,8 @@ mod figure;
 pub mod font_data;
 mod layout;
 mod legend;
+mod log_scale;
+mod log_ticks;
 mod panel;
 mod png_out;
 mod raster;
@@ -28,6 +30,7 @@ pub use color::{
 pub use error::PlotError;
 pub use figure::{DEFAULT_PANEL_HEIGHT_PX, DEFAULT_WIDTH_PX, Figure, RenderedFigure};
 pub use layout::PanelGeometry;
+pub use log_ticks::log_ticks;
 pub use panel::Panel;
 pub use series::{
     Band, DEFAULT_DASH_PX, DEFAULT_LINE_WIDTH_PX, LegendPosition, Line, Marker, Span,

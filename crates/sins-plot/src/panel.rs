@@ -2,9 +2,9 @@
 
 use crate::series::{Band, LegendPosition, Line, Marker, Span};
 
-/// One chart: title, axis labels, axis ranges (automatic unless fixed), grid, legend, and the
-/// lines, bands, shaded spans and markers drawn in it. Built by value:
-/// `Panel::new("title").x_label("time [h]").line(...)`.
+/// One chart: title, axis labels, axis ranges (automatic unless fixed), linear or logarithmic
+/// axes, grid, legend, and the lines, bands, shaded spans and markers drawn in it. Built by
+/// value: `Panel::new("title").x_label("time [h]").line(...)`.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Panel {
     pub(crate) title: String,
@@ -12,6 +12,8 @@ pub struct Panel {
     pub(crate) y_label: String,
     pub(crate) x_range: Option<(f64, f64)>,
     pub(crate) y_range: Option<(f64, f64)>,
+    pub(crate) x_log: bool,
+    pub(crate) y_log: bool,
     pub(crate) y_include: Vec<f64>,
     pub(crate) grid: bool,
     pub(crate) legend: LegendPosition,
@@ -56,6 +58,32 @@ impl Panel {
     /// whole tick steps.
     pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
         self.y_range = Some((lo, hi));
+        self
+    }
+
+    /// Makes the x axis logarithmic (base 10). Everything stays in data units (x values, the x
+    /// range, spans, markers): a value's position goes with its `log10`. An x that is not
+    /// positive (or not finite) breaks lines and bands there (a gap) and hides a marker; a span
+    /// bound at or below 0 reaches past the left edge. A fixed range ([`Panel::x_range`],
+    /// [`crate::Figure::x_range`]) must be positive. Ticks are decades labelled with the value
+    /// (`0.01`, `1`, `1000`, `1e5`), 1-2-5 ticks over a few decades, at least two labelled ticks
+    /// for less than a decade, unlabelled minor ticks at 2-9 x 10^k (see [`crate::log_ticks`]);
+    /// the automatic range is the tight data range. With a shared x axis
+    /// ([`crate::Figure::share_x`]) every panel must be logarithmic in x or none
+    /// ([`crate::PlotError::SharedXScaleMismatch`] otherwise).
+    pub fn log_x(mut self) -> Self {
+        self.x_log = true;
+        self
+    }
+
+    /// Makes the y axis logarithmic (base 10). Everything stays in data units (y values, band
+    /// bounds, the y range, [`Panel::y_include`]): a value's position goes with its `log10`. A y
+    /// (or band bound) that is not positive (or not finite) breaks lines and bands there (a
+    /// gap) and is left out of the automatic range, as is a non-positive `y_include`. A fixed
+    /// range ([`Panel::y_range`]) must be positive. The automatic range widens to the enclosing
+    /// decades (data from 0.3 to 4 get the axis 0.1 to 10); ticks as for [`Panel::log_x`].
+    pub fn log_y(mut self) -> Self {
+        self.y_log = true;
         self
     }
 

@@ -1,4 +1,5 @@
 //! Drawing one panel: spans, grid, bands, markers, lines, axes, labels and legend, in that order.
+//! Panel and geometry come in axis units (a log axis's data as `log10`, drawn linearly).
 
 use crate::band::fill_band;
 use crate::canvas::{Rect, RgbImage};
@@ -145,7 +146,8 @@ fn draw_grid(image: &mut RgbImage, g: &PanelGeometry) {
     }
 }
 
-/// Frame one pixel outside the plot area, outward ticks, tick labels.
+/// Frame one pixel outside the plot area, outward ticks, tick labels, shorter unlabelled minor
+/// ticks (log axes).
 fn draw_axes(image: &mut RgbImage, g: &PanelGeometry, m: &Metrics, x_labels: bool) {
     let a = g.plot_area;
     let all = image.bounds();
@@ -166,6 +168,25 @@ fn draw_axes(image: &mut RgbImage, g: &PanelGeometry, m: &Metrics, x_labels: boo
         height: a.height + 2 * t,
     };
     let tick_style = |h, v| TextStyle::new(Rgb::BLACK, m.scale, h, v);
+    let minor_len = (m.tick_len * 3 / 5).max(1);
+    for &v in &g.x_ticks.minor {
+        let tick = Rect {
+            x: g.x_to_px(v).floor() as i32,
+            y: frame.bottom(),
+            width: t,
+            height: minor_len,
+        };
+        image.fill_rect(&tick, Rgb::BLACK, 1.0, &all);
+    }
+    for &v in &g.y_ticks.minor {
+        let tick = Rect {
+            x: frame.x - minor_len,
+            y: g.y_to_px(v).floor() as i32,
+            width: minor_len,
+            height: t,
+        };
+        image.fill_rect(&tick, Rgb::BLACK, 1.0, &all);
+    }
     for (&v, label) in g.x_ticks.values.iter().zip(&g.x_ticks.labels) {
         let c = g.x_to_px(v).floor() as i32;
         let tick = Rect {

@@ -6,19 +6,32 @@ const SNAP: f64 = 1e-9;
 /// Smallest axis span accepted (narrower spans are below useful f64 resolution).
 const MIN_SPAN: f64 = 1e-280;
 
-/// Tick marks of one axis.
+/// Tick marks of one axis, linear ([`nice_ticks`]) or logarithmic ([`crate::log_ticks`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ticks {
-    /// Lower end of the axis, data units (a multiple of `step` when expanded).
+    /// Lower end of the axis, data units (a multiple of `step` when expanded; on a log axis a
+    /// power of ten when expanded).
     pub lo: f64,
     /// Upper end of the axis, data units.
     pub hi: f64,
-    /// Distance between ticks: 1, 2 or 5 times a power of ten.
+    /// Linear axis: distance between ticks, 1, 2 or 5 times a power of ten (data units). Log
+    /// axis with ticks at decades: how many decades apart the labelled ticks are (1: every
+    /// decade); 0 for the unevenly spaced 1-2-5 or 1-9 ticks within few decades; the linear
+    /// step when a range inside one decade gets linear ticks.
     pub step: f64,
-    /// Tick positions in `[lo, hi]`, ascending, each an integer multiple of `step`.
+    /// Tick positions in `[lo, hi]`, ascending, data units (on a linear axis each an integer
+    /// multiple of `step`).
     pub values: Vec<f64>,
-    /// One label per tick, all formatted alike (see [`format_ticks`]).
+    /// One label per tick, the value written out (see [`format_ticks`] and
+    /// [`crate::log_ticks`]).
     pub labels: Vec<String>,
+    /// Whether the axis is logarithmic (base 10): a value's position along the axis goes with
+    /// its `log10`, between `log10(lo)` and `log10(hi)`.
+    pub log: bool,
+    /// Unlabelled minor tick positions in `[lo, hi]`, ascending, data units: on a log axis
+    /// 2-9 x 10^k between labelled ticks (or the unlabelled decades when only every n-th decade
+    /// is labelled); empty on a linear axis.
+    pub minor: Vec<f64>,
 }
 
 /// The smallest step of the form {1, 2, 5} x 10^k that divides `span` into at most
@@ -102,6 +115,8 @@ pub fn nice_ticks(lo: f64, hi: f64, max_intervals: usize, expand: bool) -> Optio
         step,
         values,
         labels,
+        log: false,
+        minor: Vec::new(),
     })
 }
 

@@ -85,5 +85,61 @@ pub(crate) fn check_panel(i: usize, p: &Panel, figure_spans: &[Span]) -> Result<
             return Err(style_error(i, p, "span opacity", s.alpha.into(), "0-1"));
         }
     }
+    for (axis, log, range) in [("x", p.x_log, p.x_range), ("y", p.y_log, p.y_range)] {
+        if let (true, Some(r)) = (log, range) {
+            check_log_range(i, p, axis, r)?;
+        }
+    }
     Ok(())
+}
+
+/// A fixed range of a logarithmic axis must be positive (finite and increasing is checked with
+/// the layout).
+fn check_log_range(
+    i: usize,
+    p: &Panel,
+    axis: &'static str,
+    r: (f64, f64),
+) -> Result<(), PlotError> {
+    if r.0 > 0.0 && r.1 > 0.0 {
+        return Ok(());
+    }
+    Err(PlotError::InvalidRange {
+        panel: i,
+        panel_title: p.title.clone(),
+        axis,
+        lo: r.0,
+        hi: r.1,
+        reason: "a logarithmic axis needs positive bounds",
+    })
+}
+
+/// With a shared x axis every panel must agree with panel 0 on a logarithmic x axis, and the
+/// figure's fixed x range (reported against panel 0) must then be positive.
+pub(crate) fn check_shared_x(
+    panels: &[Panel],
+    share_x: bool,
+    x_range: Option<(f64, f64)>,
+) -> Result<(), PlotError> {
+    let Some(first) = panels.first() else {
+        return Ok(());
+    };
+    if !share_x {
+        return Ok(());
+    }
+    if let Some((i, p)) = panels
+        .iter()
+        .enumerate()
+        .find(|(_, p)| p.x_log != first.x_log)
+    {
+        return Err(PlotError::SharedXScaleMismatch {
+            panel: i,
+            panel_title: p.title.clone(),
+            scale: if p.x_log { "logarithmic" } else { "linear" },
+        });
+    }
+    match x_range {
+        Some(r) if first.x_log => check_log_range(0, first, "x", r),
+        _ => Ok(()),
+    }
 }

@@ -86,12 +86,16 @@ fn tick(label: &str, x: f64, y: f64, color: Rgb) -> Line {
 }
 
 /// The 5-95 % intervals and medians per cell beside the paper's values (and the point replica):
-/// errors on a log10 axis, improvements on a linear one.
+/// errors (nmi) on a logarithmic axis, improvements (%) on a linear one.
 pub fn intervals_figure(s: &UqSummary) -> Figure {
+    // Errors are drawn as they are on the log axis: a value that is not positive (not expected
+    // of a maximum error) or not finite leaves its bar or tick out (a gap), where the former
+    // `v.max(1e-6).log10()` drew it at 1e-6 nmi and stretched the axis down to there.
     let mut err = Panel::new(
         "maximum horizontal error: Monte Carlo 5-95 % (bar), median, point replica, paper",
     )
-    .y_label("log10(nmi)")
+    .log_y()
+    .y_label("error [nmi]")
     .x_label("cell: exp1 without, exp1 with, exp2 without, ...");
     let mut imp = Panel::new("improvement: Monte Carlo 5-95 %, median, paper")
         .y_label("%")
@@ -121,26 +125,25 @@ pub fn intervals_figure(s: &UqSummary) -> Figure {
             }
         } else {
             xe += 1.0;
-            let l = |v: f64| v.max(1e-6).log10();
             err = err.line(segment(
                 &lbl("5-95 %"),
                 xe,
-                l(c.p05),
-                l(c.p95),
+                c.p05,
+                c.p95,
                 SERIES_PALETTE[0],
                 6.0,
             ));
-            err = err.line(tick(&lbl("median"), xe, l(c.median), Rgb::BLACK));
+            err = err.line(tick(&lbl("median"), xe, c.median, Rgb::BLACK));
             if c.point.is_finite() {
                 err = err.line(tick(
                     &lbl("point replica"),
                     xe - 0.3,
-                    l(c.point),
+                    c.point,
                     SERIES_PALETTE[1],
                 ));
             }
             if let Some(d) = paper {
-                err = err.line(tick(&lbl("paper"), xe + 0.3, l(d), SERIES_PALETTE[3]));
+                err = err.line(tick(&lbl("paper"), xe + 0.3, d, SERIES_PALETTE[3]));
             }
         }
     }
