@@ -1,5 +1,4 @@
-//! The gap stage: the catalogue laid out as columns and walks, and every run's gap (real track
-//! less the twin's mean) on the output grid with its 1-sigma envelope and on the fit grid with
+//! The gaps: every run's gap (real track less the twin's mean) on the output grid with its 1-sigma envelope and on the fit grid with
 //! the twin covariance, the calibration responses, the candidate columns and the walk factors.
 
 use crate::calib::ParamUncertainty;
@@ -7,50 +6,9 @@ use crate::error::DiagError;
 use crate::input::{DiagnoseConfig, DiagnosisInput};
 use crate::localise::GapSeries;
 use crate::problem::{RunFitData, run_fit_data};
-use crate::rank::Layout;
 use crate::report::RunSeries;
 use crate::runs::track_at;
 use crate::sensitivity::{ColumnId, RunSensitivity};
-use sins_imu::effects::Sensor;
-use sins_imu::{EffectKind, Linearity};
-
-/// The catalogue as fit columns.
-pub(crate) struct Catalogue {
-    /// Deterministic candidates: their columns among the candidate columns.
-    pub layouts: Vec<Layout>,
-    /// Every candidate column with the SI value of one candidate unit.
-    pub columns: Vec<(ColumnId, f64)>,
-    /// Random-walk candidates: kind and first bias axis (0 gyro, 3 accelerometer).
-    pub walks: Vec<(EffectKind, usize)>,
-}
-
-/// Lay out `kinds`: deterministic ones as columns, random processes as walks.
-pub(crate) fn catalogue(kinds: &[EffectKind]) -> Catalogue {
-    let mut c = Catalogue {
-        layouts: Vec::new(),
-        columns: Vec::new(),
-        walks: Vec::new(),
-    };
-    for &k in kinds {
-        match k.linearity() {
-            Linearity::RandomProcess => {
-                c.walks
-                    .push((k, if k.sensor() == Sensor::Gyro { 0 } else { 3 }));
-            }
-            _ => {
-                c.layouts.push(Layout {
-                    kind: k,
-                    first: c.columns.len(),
-                    n: k.n_components(),
-                });
-                for comp in 0..k.n_components() {
-                    c.columns.push((ColumnId::Effect(k, comp), k.unit().si));
-                }
-            }
-        }
-    }
-    c
-}
 
 /// Every run's gap series (output grid) and fit data (fit grid), in the input's run order.
 pub(crate) fn gaps(

@@ -6,14 +6,13 @@
 //! `⟨x, y⟩_S = x̂ᵀŷ - (R⁻¹Ûᵀx̂)ᵀ(R⁻¹Ûᵀŷ)` with `R Rᵀ = I + ÛᵀÛ`, and
 //! `log det S = Σ log det D_r + log det(I + ÛᵀÛ)`.
 
+use crate::dense::LowerCholesky;
 use crate::error::DiagError;
-use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
-use faer::{Mat, Par, Side};
 use nalgebra::{DMatrix, DVector};
 
 /// Per-run whitening `x ↦ L_r⁻¹ x` with `L_r L_rᵀ = D_r`.
 pub struct Whitener {
-    factors: Vec<Mat<f64>>,
+    factors: Vec<LowerCholesky>,
     offsets: Vec<usize>,
 }
 
@@ -25,11 +24,9 @@ impl Whitener {
         let mut off = 0;
         for (r, d) in covs.iter().enumerate() {
             let n = d.nrows();
-            let m = Mat::<f64>::from_fn(n, n, |i, j| d[(i, j)]);
-            let llt = m.llt(Side::Lower).map_err(|e| {
-                DiagError::Numerical(format!("run {r}: covariance not positive definite ({e:?})"))
+            let l = LowerCholesky::new(d).map_err(|e| {
+                DiagError::Numerical(format!("run {r}: covariance not positive definite ({e})"))
             })?;
-            let l = llt.L().to_owned();
             offsets.push(off);
             off += n;
             factors.push(l);
@@ -52,21 +49,7 @@ impl Whitener {
     pub fn inverse_grams(&self) -> Vec<DMatrix<f64>> {
         self.factors
             .iter()
-            .map(|l| {
-                let n = l.nrows();
-                let mut x = Mat::<f64>::identity(n, n);
-                solve_lower_triangular_in_place(l.as_ref(), x.as_mut(), Par::Seq);
-                let mut g = Mat::<f64>::zeros(n, n);
-                faer::linalg::matmul::matmul(
-                    g.as_mut(),
-                    faer::Accum::Replace,
-                    x.as_ref(),
-                    x.transpose(),
-                    1.0,
-                    Par::Seq,
-                );
-                DMatrix::from_fn(n, n, |i, j| g[(i, j)])
-            })
+            .map(LowerCholesky::inverse_gram)
             .collect()
     }
 
@@ -76,8 +59,7 @@ impl Whitener {
         for (r, l) in self.factors.iter().enumerate() {
             let rows = self.rows(r);
             let n = rows.len();
-            let mut b = Mat::<f64>::from_fn(n, x.ncols(), |i, j| x[(rows.start + i, j)]);
-            solve_lower_triangular_in_place(l.as_ref(), b.as_mut(), Par::Seq);
+            let b = l.whiten_rows(x, rows.clone());
             for j in 0..x.ncols() {
                 for i in 0..n {
                     out[(rows.start + i, j)] = b[(i, j)];

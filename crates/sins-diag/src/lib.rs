@@ -19,6 +19,9 @@ pub mod sensitivity;
 mod twin;
 // 3. Fit.
 mod candidates;
+mod catalogue;
+mod context;
+mod dense;
 mod gaps;
 mod gls;
 mod problem;
@@ -39,6 +42,7 @@ mod whiten;
 // 6. Verdict, localisation, validation, and the diagnosis that runs the stages.
 mod constancy;
 mod diagnose;
+mod judge;
 mod localise;
 pub mod report;
 mod validate;

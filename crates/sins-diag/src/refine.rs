@@ -14,13 +14,16 @@
 
 use crate::absorb::{Absorption, CalibrationRun};
 use crate::candidates::{RegressionFit, forward_select, select};
+use crate::context::Context;
 use crate::error::DiagError;
 use crate::input::{DiagnoseConfig, DiagnosisInput};
 use crate::problem::{Problem, RunFitData};
-use crate::rank::Layout;
+use crate::rank::{Evaluated, Layout, finish_ranking, regression_evaluated};
 use crate::replay::replay_corrected;
+use crate::report::{Note, NoteKind};
 use crate::runs::{output_columns, par_runs, track_at};
 use crate::sensitivity::{RunSensitivity, SensitivitySetup, run_sensitivity};
+use crate::twin::base_setup;
 use crate::validate::OutputColumns;
 use sins_imu::{EffectKind, EffectSpec, ImuErrorParams};
 
@@ -286,4 +289,106 @@ fn corrected_fit_data(
         out_cols.push(cols);
     }
     (data, corrected_gap, out_cols)
+}
+
+/// The refine stage's value.
+pub(crate) struct Refined {
+    /// The ranking with each refined candidate's evaluation in place of its linear one.
+    pub ranked: Vec<Evaluated>,
+    /// The refinements.
+    pub refinements: Vec<Refinement>,
+}
+
+/// Nonlinear refinement of the leading deterministic candidates whose linear fit leaves an
+/// inconsistent residual, and of a leading kind listed in `cfg.refine`; each refined candidate's
+/// entry in `ranked` is replaced by its refined evaluation, and the ranking finished again.
+pub(crate) fn refine_leaders(
+    input: &mut DiagnosisInput,
+    st: &Context<'_>,
+    mut ranked: Vec<Evaluated>,
+    notes: &mut Vec<Note>,
+) -> Refined {
+    let (cfg, ctx) = (st.cfg, &st.tests);
+    // Candidates are taken by chi-square drop among the significant ones, not by evidence:
+    // a linear fit that an effect's nonlinearity has pushed to an implausible magnitude fails
+    // the plausibility prior before its refinement can correct it.
+    let mut by_drop: Vec<usize> = (0..ranked.len())
+        .filter(|&i| ranked[i].regression.is_some() && ranked[i].report.p_value < cfg.alpha)
+        .collect();
+    by_drop.sort_by(|&a, &b| ranked[b].report.dchi2.total_cmp(&ranked[a].report.dchi2));
+    // The best residual chi-square of a deterministic candidate so far.
+    let mut best_residual = ranked
+        .iter()
+        .filter(|e| e.regression.is_some())
+        .map(|e| ctx.chi0 - e.report.dchi2)
+        .fold(f64::INFINITY, f64::min);
+    let best_linear = best_residual;
+    let targets: Vec<usize> = by_drop
+        .into_iter()
+        .take(cfg.refine_top)
+        .filter(|&i| {
+            !ranked[i].report.residual.consistent || cfg.refine_kinds().contains(&ranked[i].kind)
+        })
+        .filter(|&i| ctx.chi0 - ranked[i].report.dchi2 <= cfg.refine_within * best_linear)
+        .collect();
+    let mut refinements: Vec<Refinement> = Vec::new();
+    for i in targets {
+        let Some((l, rf)) = ranked[i].regression.clone() else {
+            continue;
+        };
+        let (params, noise) = (input.params, input.noise);
+        let setup = base_setup(&params, &noise, cfg, st.kinds);
+        let start = RefineStart {
+            base: st.data,
+            base_sens: st.sens,
+            absorption: st.absorption,
+            p0: st.problem,
+            layout: l,
+            rf: &rf,
+            chi0: ctx.chi0,
+            stop_above: cfg.refine_competitive * best_residual,
+        };
+        match refine(input, cfg, &setup, &start) {
+            Ok(Some(r)) => {
+                let text = format!(
+                    "{}: refined by {} Gauss-Newton step(s) on the runs replayed with the fitted \
+                     effect removed ({}; residual chi-square {:.1} -> {:.1})",
+                    l.kind.name(),
+                    r.steps,
+                    if r.converged {
+                        "converged"
+                    } else if r.uncompetitive {
+                        "stopped: its predicted residual stays far above the best candidate's"
+                    } else {
+                        "not converged"
+                    },
+                    ctx.chi0 - rf.fit.dchi2,
+                    ctx.chi0 - r.rf.fit.dchi2,
+                );
+                notes.push(
+                    Note::new(NoteKind::Refinement, text)
+                        .subject(l.kind.name())
+                        .figure("steps", r.steps as f64)
+                        .figure("chi2_before", ctx.chi0 - rf.fit.dchi2)
+                        .figure("chi2_after", ctx.chi0 - r.rf.fit.dchi2),
+                );
+                best_residual = best_residual.min(ctx.chi0 - r.rf.fit.dchi2);
+                ranked[i] = regression_evaluated(&l, r.rf.clone(), ctx, st.dist, cfg);
+                refinements.push(r);
+            }
+            Ok(None) => {}
+            Err(e) => notes.push(
+                Note::new(
+                    NoteKind::Refinement,
+                    format!("{}: refinement failed ({e})", l.kind.name()),
+                )
+                .subject(l.kind.name()),
+            ),
+        }
+    }
+    finish_ranking(&mut ranked, ctx.n, cfg);
+    Refined {
+        ranked,
+        refinements,
+    }
 }

@@ -3,6 +3,7 @@
 //! its evidence, the catalogue ranked again without the events, and the verdict amended.
 
 use crate::candidates::RegressionFit;
+use crate::context::Context;
 use crate::error::DiagError;
 use crate::events::{
     DetectableCurve, EventScan, EventSignal, Prepared, ScanRun, TimeLocalEvent, chi2_with,
@@ -11,27 +12,11 @@ use crate::events::{
 use crate::input::DiagnoseConfig;
 use crate::problem::{Problem, RunFitData};
 use crate::rank::{Evaluated, Layout, NullDist, evaluate};
-use crate::refine::Refinement;
 use crate::report::{CandidateReport, ChiSquareTest, Note, NoteKind, Verdict};
-use crate::sensitivity::RunSensitivity;
 use crate::stats::chi2_sf;
 use crate::walk::fit_walk;
 use nalgebra::{DMatrix, DVector};
 use sins_imu::EffectKind;
-
-/// What the time-local scan needs from the diagnosis.
-pub(crate) struct ScanScope<'a> {
-    /// The refined candidates.
-    pub refinements: &'a [Refinement],
-    /// Random-walk candidates: kind and first bias axis.
-    pub walks: &'a [(EffectKind, usize)],
-    /// Sensitivity passes, one per run.
-    pub sens: &'a [RunSensitivity],
-    /// Fit data, one per run.
-    pub data: &'a [RunFitData],
-    /// Tests of the catalogue (the Bonferroni factor).
-    pub n_tests: f64,
-}
 
 /// The scan's runs against a deterministic winner's fit (refined if it was), or the twin alone;
 /// the other deterministic candidates with their linear fits, to tell whether one explains an
@@ -39,7 +24,7 @@ pub(crate) struct ScanScope<'a> {
 pub(crate) fn scan_runs<'a>(
     winner: Option<&Evaluated>,
     ranked: &[Evaluated],
-    sc: &ScanScope<'a>,
+    sc: &Context<'a>,
 ) -> Vec<ScanRun<'a>> {
     let candidates: Vec<(String, &Layout, &RegressionFit)> = ranked
         .iter()
@@ -95,7 +80,7 @@ pub(crate) fn scan_runs<'a>(
 /// explained by the walk.
 pub(crate) fn time_local_events(
     ranked: &mut [Evaluated],
-    sc: &ScanScope<'_>,
+    sc: &Context<'_>,
     prepared: Option<&mut [Prepared]>,
     cfg: &DiagnoseConfig,
     notes: &mut Vec<Note>,
@@ -130,7 +115,7 @@ pub(crate) fn time_local_events(
             .dchi2
         })
         .fold(0.0, f64::max);
-    let p_value = (0.5 * chi2_sf(dchi2, 1.0) * sc.n_tests).min(1.0);
+    let p_value = (0.5 * chi2_sf(dchi2, 1.0) * sc.tests.n_tests).min(1.0);
     let top = &mut ranked[0].report;
     if let Some(w) = top.whiteness.as_mut() {
         w.without_events_dchi2 = Some(dchi2);
@@ -216,7 +201,7 @@ fn excursions(
     top: &CandidateReport,
     first: usize,
     kind: EffectKind,
-    sc: &ScanScope<'_>,
+    sc: &Context<'_>,
 ) -> Result<Option<(f64, f64)>, DiagError> {
     let shapes_only = outside
         .iter()
@@ -333,11 +318,9 @@ pub(crate) struct Located<'a> {
 pub(crate) fn ranked_without_events(
     ranked: &[Evaluated],
     located: &Located<'_>,
-    sc: &ScanScope<'_>,
-    layouts: &[Layout],
-    floor_var: f64,
-    cfg: &DiagnoseConfig,
+    sc: &Context<'_>,
 ) -> Result<(Option<Vec<Evaluated>>, Option<ChiSquareTest>), DiagError> {
+    let cfg = sc.cfg;
     let events = located.events;
     let mut outside = located
         .signals
@@ -350,7 +333,7 @@ pub(crate) fn ranked_without_events(
         return Ok((None, None));
     }
     let p2 = without_events(sc.data, outside.chain(located.absorbed))?;
-    let (mean, var) = p2.null_moments(floor_var);
+    let (mean, var) = p2.null_moments(sc.floor_var);
     let dist = NullDist::from_moments(mean, var);
     // The events' sizes and onsets were fitted: one size and one onset each.
     let fitted = 2 * events
@@ -359,7 +342,7 @@ pub(crate) fn ranked_without_events(
         .filter(|e| e.explained_by.is_none())
         .count();
     let left = dist.test(p2.gls.chi2(), fitted, cfg.null_alpha);
-    let again = evaluate(&p2, layouts, sc.walks, &dist, cfg);
+    let again = evaluate(&p2, sc.layouts, sc.walks, &dist, cfg);
     Ok((
         (leader(&again) != leader(ranked)).then_some(again),
         Some(left),

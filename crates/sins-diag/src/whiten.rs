@@ -2,28 +2,23 @@
 //! projection of nuisance directions out of a whitened residual: what the time-local scan, the
 //! rival time courses and the confounds share.
 
+use crate::dense::LowerCholesky;
 use crate::error::DiagError;
-use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
-use faer::{Mat, Par, Side};
 use nalgebra::{DMatrix, DVector};
 
 /// Whitening by the Cholesky factor of one run's covariance.
 pub(crate) struct RunWhitener {
-    l: Mat<f64>,
+    l: LowerCholesky,
 }
 
 impl RunWhitener {
     pub(crate) fn new(cov: &DMatrix<f64>) -> Result<Self, DiagError> {
-        let n = cov.nrows();
-        let m = Mat::<f64>::from_fn(n, n, |i, j| cov[(i, j)]);
-        let llt = m.llt(Side::Lower).map_err(|e| {
+        let l = LowerCholesky::new(cov).map_err(|e| {
             DiagError::Numerical(format!(
-                "event scan: covariance not positive definite ({e:?})"
+                "event scan: covariance not positive definite ({e})"
             ))
         })?;
-        Ok(Self {
-            l: llt.L().to_owned(),
-        })
+        Ok(Self { l })
     }
 
     pub(crate) fn whiten_vec(&self, x: &DVector<f64>) -> DVector<f64> {
@@ -33,9 +28,7 @@ impl RunWhitener {
     }
 
     pub(crate) fn whiten(&self, x: &DMatrix<f64>) -> DMatrix<f64> {
-        let mut m = Mat::<f64>::from_fn(x.nrows(), x.ncols(), |i, j| x[(i, j)]);
-        solve_lower_triangular_in_place(self.l.as_ref(), m.as_mut(), Par::Seq);
-        DMatrix::from_fn(x.nrows(), x.ncols(), |i, j| m[(i, j)])
+        self.l.whiten_rows(x, 0..x.nrows())
     }
 }
 
@@ -84,8 +77,7 @@ impl Nuisance {
 impl RunWhitener {
     /// `L x`: back from the whitened space.
     pub(crate) fn colour(&self, x: &DVector<f64>) -> DVector<f64> {
-        let n = x.len();
-        DVector::from_fn(n, |i, _| (0..=i).map(|j| self.l[(i, j)] * x[j]).sum())
+        self.l.colour(x)
     }
 }
 

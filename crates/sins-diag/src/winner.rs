@@ -2,15 +2,14 @@
 //! gap series, and its prediction of withheld data.
 
 use crate::constancy::{Winner as ConstancyWinner, constancy};
+use crate::context::Context;
 use crate::error::DiagError;
 use crate::input::{DiagnoseConfig, RunData};
-use crate::localise::GapSeries;
 use crate::problem::{Problem, RunFitData};
 use crate::rank::Evaluated;
 use crate::refine::Refinement;
 use crate::report::{RunSeries, ValidationReport};
 use crate::runs::output_columns;
-use crate::sensitivity::RunSensitivity;
 use crate::validate::{EvalRun, OutputColumns, Winner, validate};
 
 /// Test whether the leading passing deterministic candidate has one magnitude in every run
@@ -51,32 +50,17 @@ pub(crate) fn winner_constancy(
     Ok(())
 }
 
-/// What the winner stage reads of the diagnosis so far.
-pub(crate) struct WinnerScope<'a> {
-    /// The refined candidates.
-    pub refinements: &'a [Refinement],
-    /// Sensitivity passes, one per run.
-    pub sens: &'a [RunSensitivity],
-    /// Fit data, one per run.
-    pub data: &'a [RunFitData],
-    /// Gap series, one per run.
-    pub series: &'a [GapSeries],
-    /// The runs (segment labels).
-    pub runs: &'a [RunData],
-    /// The part of the metric's floor that the data are not expected to carry (m²).
-    pub floor_var: f64,
-}
-
 /// The report's gap series, with the fitted effect of the deterministic winner (the leading
 /// candidate when it passes) fitted on all runs, and the winner's withheld validation.
 pub(crate) fn winner_series(
     winner: Option<&Evaluated>,
-    sc: &WinnerScope<'_>,
+    sc: &Context<'_>,
+    runs: &[RunData],
 ) -> Result<(Vec<RunSeries>, Vec<ValidationReport>), DiagError> {
     let mut run_series: Vec<RunSeries> = sc
         .series
         .iter()
-        .zip(sc.runs)
+        .zip(runs)
         .map(|(s, r)| crate::gaps::to_series(s, &r.segment_labels))
         .collect();
     let Some((l, rf)) = winner.and_then(|w| w.regression.as_ref()) else {

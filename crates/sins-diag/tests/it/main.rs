@@ -6,6 +6,7 @@
 mod absorb;
 mod common;
 mod diagnose;
+mod fixtures;
 mod linear_vs_nonlinear;
 mod noise_calibration;
 mod refine;
