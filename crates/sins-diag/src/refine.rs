@@ -50,7 +50,7 @@ pub struct Refinement {
     pub steps: usize,
     /// The last step moved every component by less than a tenth of its sigma.
     pub converged: bool,
-    /// Stopped because the predicted residual stayed above `RefineStart::stop_above`.
+    /// Stopped because the predicted residual stayed above the `stop_above` given to `refine`.
     pub uncompetitive: bool,
 }
 
@@ -100,32 +100,11 @@ fn corrected_pass(
     })
 }
 
-/// Where a refinement starts.
-#[derive(Clone, Copy)]
-pub struct RefineStart<'a> {
-    /// The base fit data (one per run, in the order of the input's runs).
-    pub base: &'a [RunFitData],
-    /// The base sensitivity passes (their calibration columns carry the absorption).
-    pub base_sens: &'a [RunSensitivity],
-    /// How the calibration absorbs the candidates, when a calibration run was given.
-    pub absorption: Option<&'a Absorption>,
-    /// Their stacked problem.
-    pub p0: &'a Problem,
-    /// The candidate.
-    pub layout: Layout,
-    /// Its linear fit.
-    pub rf: &'a RegressionFit,
-    /// The twin-alone chi-square.
-    pub chi0: f64,
-    /// Stop after a step whose predicted residual chi-square is above this (a candidate that
-    /// cannot compete with the leader; `f64::INFINITY`: never).
-    pub stop_above: f64,
-}
-
 /// One run corrected: its gap on the output grid (m) and the candidate's columns about it.
 type CorrectedRun = (Vec<[f64; 2]>, RunSensitivity);
 
-/// Refine the candidate of `start` (at most `cfg.refine_steps` steps).
+/// Refine candidate `l` from its linear fit `rf` on the context's fit data, sensitivity passes,
+/// absorption and problem (at most `cfg.refine_steps` steps).
 ///
 /// The refinement starts from the strongest single component of the linear fit alone: when
 /// the linear model is off, the further components of its forward selection mostly absorb the
@@ -134,23 +113,18 @@ type CorrectedRun = (Vec<[f64; 2]>, RunSensitivity);
 /// whose chi-square drop on the corrected runs is at least `max(z_keep², ln n)`. At most
 /// `max_steps` Gauss-Newton steps; a step that raises the corrected chi-square ends the
 /// iteration at the previous point, and a step whose predicted residual stays above
-/// `start.stop_above` is the last.
-pub fn refine(
+/// `stop_above` is the last (a candidate that cannot compete with the leader;
+/// `f64::INFINITY`: never).
+pub(crate) fn refine(
     input: &mut DiagnosisInput,
-    cfg: &DiagnoseConfig,
+    ctx: &Context<'_>,
     base_setup: &SensitivitySetup<'_>,
-    start: &RefineStart<'_>,
+    l: Layout,
+    rf: &RegressionFit,
+    stop_above: f64,
 ) -> Result<Option<Refinement>, DiagError> {
-    let RefineStart {
-        base,
-        base_sens,
-        absorption,
-        p0,
-        layout: l,
-        rf,
-        chi0,
-        stop_above,
-    } = *start;
+    let (cfg, base, base_sens) = (ctx.cfg, ctx.data, ctx.sens);
+    let (absorption, p0, chi0) = (ctx.absorption, ctx.problem, ctx.tests.chi0);
     let max_steps = cfg.refine_steps;
     let Some(&c0) = rf.retained.first() else {
         return Ok(None);
@@ -338,17 +312,8 @@ pub(crate) fn refine_leaders(
         };
         let (params, noise) = (input.params, input.noise);
         let setup = base_setup(&params, &noise, cfg, st.kinds);
-        let start = RefineStart {
-            base: st.data,
-            base_sens: st.sens,
-            absorption: st.absorption,
-            p0: st.problem,
-            layout: l,
-            rf: &rf,
-            chi0: ctx.chi0,
-            stop_above: cfg.refine_competitive * best_residual,
-        };
-        match refine(input, cfg, &setup, &start) {
+        let stop_above = cfg.refine_competitive * best_residual;
+        match refine(input, st, &setup, l, &rf, stop_above) {
             Ok(Some(r)) => {
                 let text = format!(
                     "{}: refined by {} Gauss-Newton step(s) on the runs replayed with the fitted \

@@ -1,10 +1,12 @@
-//! The diagnosis's output pinned on fixtures: two simulated sets, one per path through the
-//! stages (a temperature coefficient that is ranked, refined, named and validated on withheld
-//! runs; a gyro step in one run that the time-local scan locates, after which the catalogue is
-//! ranked again and challenged by the rival time courses). Each fixture file holds the SHA-256
-//! of the whole serialised [`Diagnosis`] (every figure to the last bit, the series included)
-//! and a readable summary, compared first so that a change shows as a diff. A restructuring
-//! of the stages must leave both unchanged; a change of method updates them once
+//! The diagnosis's output pinned on fixtures: three simulated sets, one per path through the
+//! stages: a gyro temperature coefficient, ranked, named and validated on withheld runs; a gyro
+//! step in one run, located by the time-local scan, after which the catalogue is ranked on the
+//! gap less it and the verdict is "unexplained"; a size effect beyond the linear range, which the
+//! refine stage replays away and takes over from the linear fits. Each fixture file holds the
+//! SHA-256 of the whole serialised [`Diagnosis`] (every figure to the last bit, the series and
+//! notes included) and a readable summary, compared first so that a change shows as a diff. A
+//! restructuring of the stages must leave both unchanged (the fixtures were written by the code
+//! before sins-diag became typed stages); a change of method updates them once
 //! (`SINS_BLESS=1 cargo test -p sins-diag --test it fixtures`), saying why in its commit.
 
 use crate::common;
@@ -98,4 +100,25 @@ fn a_located_step_in_one_run_diagnoses_as_pinned() {
     );
     assert!(!d.events.events.is_empty(), "the step was not located");
     check("step_in_one_run", &d);
+}
+
+/// A size effect far beyond the linear range (Table 4 vibration, -8 mm): the refine stage
+/// replays the runs with the effect removed and takes the lead from the linear fits.
+#[test]
+fn a_refined_size_effect_diagnoses_as_pinned() {
+    let scs = noisy_runs(
+        vibration_motion,
+        200.0,
+        3.0,
+        &[(10.0, 8.0, 31), (30.0, -6.0, 32)],
+        &[effect(EffectKind::SizeEffect, 0, -8.0)],
+    );
+    let truth = scs[0].truth;
+    let mut inp = input(&scs, &truth, None);
+    let d = diagnose(&mut inp, &DiagnoseConfig::default()).expect("diagnosis");
+    assert!(
+        d.notes.iter().any(|n| n.text.contains("refined by")),
+        "the refinement did not run"
+    );
+    check("refined_size_effect", &d);
 }
