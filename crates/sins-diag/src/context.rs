@@ -8,7 +8,7 @@ use crate::input::DiagnoseConfig;
 use crate::localise::GapSeries;
 use crate::problem::{Problem, RunFitData};
 use crate::rank::{Layout, NullDist, TestContext};
-use crate::refine::Refinement;
+use crate::refinement::Refinement;
 use crate::sensitivity::RunSensitivity;
 use sins_imu::EffectKind;
 

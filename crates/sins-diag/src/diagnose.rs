@@ -21,7 +21,7 @@ use crate::error::DiagError;
 use crate::events::{EventScan, EventSignal};
 use crate::gaps::gaps;
 use crate::input::{DiagnoseConfig, DiagnosisInput};
-use crate::judge::{Judged, judge_stage};
+use crate::judge::{Judged, Reranked, judge_stage};
 use crate::localise::localise;
 use crate::problem::{Problem, RunFitData};
 use crate::rank::{Evaluated, NullDist, evaluate, finish_ranking, with_scan_multiplicity};
@@ -223,17 +223,6 @@ fn scan_stage(
         signals,
         stacked,
     })
-}
-
-/// The rerank stage's value.
-pub(crate) struct Reranked {
-    /// The catalogue ranked on the gap less the located events, when that changed the leader
-    /// (else the scan's ranking), with the scan's multiplicity when the null test passed.
-    pub ranked: Vec<Evaluated>,
-    /// The null test of the gap the located events leave (none without such events).
-    pub left: Option<ChiSquareTest>,
-    /// The calibration run's events through the coefficients, in every run's gap.
-    pub absorbed: Vec<EventSignal>,
 }
 
 /// What the calibration run's events did to the coefficients, in every run's gap; the

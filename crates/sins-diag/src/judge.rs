@@ -4,17 +4,27 @@
 
 use crate::confound::confounds;
 use crate::context::Context;
-use crate::diagnose::Reranked;
 use crate::error::DiagError;
-use crate::events::{EventScan, ScanRun};
+use crate::events::{EventScan, EventSignal, ScanRun};
 use crate::rank::{Evaluated, verdict};
-use crate::refine::Refinement;
+use crate::refinement::Refinement;
 use crate::report::{ChiSquareTest, Confound, Note, NoteKind, TimeCourseAlternative, Verdict};
 use crate::rival::{JudgeScope, challenge, named};
 use crate::sensitivity::RunSensitivity;
 use crate::stacked::Stacked;
 use crate::timelocal::{scan_runs, with_events};
 use crate::winner::winner_constancy;
+
+/// The rerank stage's value, which the judge stage takes.
+pub(crate) struct Reranked {
+    /// The catalogue ranked on the gap less the located events, when that changed the leader
+    /// (else the scan's ranking), with the scan's multiplicity when the null test passed.
+    pub ranked: Vec<Evaluated>,
+    /// The null test of the gap the located events leave (none without such events).
+    pub left: Option<ChiSquareTest>,
+    /// The calibration run's events through the coefficients, in every run's gap.
+    pub absorbed: Vec<EventSignal>,
+}
 
 /// The judge stage's value.
 pub(crate) struct Judged {

@@ -30,6 +30,7 @@ mod unresolved;
 mod walk;
 // 4. Refine.
 mod refine;
+mod refinement;
 // 5. Time-local effects.
 mod cal_events;
 pub mod events;

@@ -19,6 +19,7 @@ use crate::error::DiagError;
 use crate::input::{DiagnoseConfig, DiagnosisInput};
 use crate::problem::{Problem, RunFitData};
 use crate::rank::{Evaluated, Layout, finish_ranking, regression_evaluated};
+use crate::refinement::Refinement;
 use crate::replay::replay_corrected;
 use crate::report::{Note, NoteKind};
 use crate::runs::{output_columns, par_runs, track_at};
@@ -26,33 +27,6 @@ use crate::sensitivity::{RunSensitivity, SensitivitySetup, run_sensitivity};
 use crate::twin::base_setup;
 use crate::validate::OutputColumns;
 use sins_imu::{EffectKind, EffectSpec, ImuErrorParams};
-
-/// A refined candidate and the data about its final linearisation point.
-pub struct Refinement {
-    /// The candidate.
-    pub layout: Layout,
-    /// The refined fit: `fit.theta` the estimate (candidate units, retained components),
-    /// `fit.cov` its covariance from the last step, `fit.dchi2` the drop from the twin alone
-    /// to the corrected runs' residual.
-    pub rf: RegressionFit,
-    /// The runs' fit data with the gap corrected by the effect at the linearisation point and
-    /// the candidate's columns recomputed about it.
-    pub data: Vec<RunFitData>,
-    /// The corrected gap on each run's output grid (m).
-    pub corrected_gap: Vec<Vec<[f64; 2]>>,
-    /// The candidate's columns about the linearisation point, on each run's output grid.
-    pub out_cols: Vec<OutputColumns>,
-    /// The linearisation point (candidate units, retained components).
-    pub theta_lin: Vec<f64>,
-    /// Chi-square of the corrected runs at the linearisation point (before the last step).
-    pub chi2_at_lin: f64,
-    /// Gauss-Newton steps taken.
-    pub steps: usize,
-    /// The last step moved every component by less than a tenth of its sigma.
-    pub converged: bool,
-    /// Stopped because the predicted residual stayed above the `stop_above` given to `refine`.
-    pub uncompetitive: bool,
-}
 
 /// One corrected pass of every run: the corrected gap (output grid) and the candidate's
 /// columns about the corrected runs.

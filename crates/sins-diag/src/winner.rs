@@ -7,7 +7,7 @@ use crate::error::DiagError;
 use crate::input::{DiagnoseConfig, RunData};
 use crate::problem::{Problem, RunFitData};
 use crate::rank::Evaluated;
-use crate::refine::Refinement;
+use crate::refinement::Refinement;
 use crate::report::{RunSeries, ValidationReport};
 use crate::runs::output_columns;
 use crate::validate::{EvalRun, OutputColumns, Winner, validate};
