@@ -2,24 +2,11 @@
 //! labels, sub-decade ranges, and a shared x axis that must agree.
 
 use sins_plot::{
-    AllanPanel, AllanSeries, Figure, LegendPosition, Line, Panel, PanelGeometry, PlotError, Rgb,
-    RgbImage, Span, allan_figure, series_color,
+    AllanPanel, AllanSeries, Figure, Line, Panel, PanelGeometry, PlotError, Rgb, RgbImage, Span,
+    allan_figure, series_color,
 };
 
-const RED: Rgb = Rgb::new(255, 0, 0);
-const TEAL: Rgb = Rgb::new(0, 128, 128);
-
-fn render(fig: &Figure) -> (RgbImage, Vec<PanelGeometry>) {
-    match fig.render() {
-        Ok(r) => (r.image, r.panels),
-        Err(e) => panic!("render failed: {e}"),
-    }
-}
-
-fn px(img: &RgbImage, x: i32, y: i32) -> Rgb {
-    img.pixel(x, y)
-        .unwrap_or_else(|| panic!("pixel ({x}, {y}) outside the image"))
-}
+use crate::common::{RED, TEAL, bare_panel, px, render};
 
 /// How much red ink a pixel carries (0 white or grey, 1 pure red).
 fn redness(c: Rgb) -> f64 {
@@ -28,10 +15,6 @@ fn redness(c: Rgb) -> f64 {
 
 fn reddish(c: Rgb) -> bool {
     redness(c) > 0.12
-}
-
-fn bare_panel() -> Panel {
-    Panel::new("").grid(false).legend(LegendPosition::Hidden)
 }
 
 /// The red ink's centre (continuous image x) along row `y` of the plot area.

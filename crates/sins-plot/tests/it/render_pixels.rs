@@ -1,31 +1,12 @@
 //! Pixel-level checks of rendered figures: where lines, spans, bands and markers land.
 
-use sins_plot::{
-    Band, Figure, LegendPosition, Line, Marker, Panel, PanelGeometry, Rgb, RgbImage, Span,
-};
+use sins_plot::{Band, Figure, Line, Marker, Panel, Rgb, Span};
 
-const RED: Rgb = Rgb::new(255, 0, 0);
-const TEAL: Rgb = Rgb::new(0, 128, 128);
-
-fn render(fig: &Figure) -> (RgbImage, Vec<PanelGeometry>) {
-    match fig.render() {
-        Ok(r) => (r.image, r.panels),
-        Err(e) => panic!("render failed: {e}"),
-    }
-}
-
-fn px(img: &RgbImage, x: i32, y: i32) -> Rgb {
-    img.pixel(x, y)
-        .unwrap_or_else(|| panic!("pixel ({x}, {y}) outside the image"))
-}
+use crate::common::{RED, TEAL, bare_panel, px, render};
 
 /// Clearly tinted towards red (line colour `RED` at any visible coverage).
 fn reddish(c: Rgb) -> bool {
     i32::from(c.r) - i32::from(c.g) > 30 && i32::from(c.r) - i32::from(c.b) > 30
-}
-
-fn bare_panel() -> Panel {
-    Panel::new("").grid(false).legend(LegendPosition::Hidden)
 }
 
 #[test]
