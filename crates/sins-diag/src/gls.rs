@@ -59,12 +59,8 @@ impl Whitener {
         for (r, l) in self.factors.iter().enumerate() {
             let rows = self.rows(r);
             let n = rows.len();
-            let b = l.whiten_rows(x, rows.clone());
-            for j in 0..x.ncols() {
-                for i in 0..n {
-                    out[(rows.start + i, j)] = b[(i, j)];
-                }
-            }
+            out.rows_mut(rows.start, n)
+                .copy_from(&l.whiten_rows(x, rows.clone()));
         }
         out
     }
