@@ -13,11 +13,12 @@ pub struct EventScanConfig {
     pub onset_every_s: usize,
     /// Time constants of the transients tried (s).
     pub time_constants_s: Vec<f64>,
-    /// Durations of the pulses tried (s, rounded to the onset grid; none by default). With
-    /// any, a step found is also tried as either edge of a pulse.
+    /// Durations of the pulses tried (s, rounded to the onset grid; 600-4800 s in octaves by
+    /// default, none turns them off). With any, a step found is also tried as either edge of a
+    /// pulse.
     pub pulse_durations_s: Vec<f64>,
-    /// Rise times of the ramps to a plateau tried (s, rounded to the onset grid; none by
-    /// default).
+    /// Rise times of the ramps to a plateau tried (s, rounded to the onset grid; 1200-9600 s
+    /// in octaves by default, none turns them off).
     pub plateau_rises_s: Vec<f64>,
     /// Events per run at most.
     pub max_events_per_run: usize,
@@ -33,12 +34,13 @@ impl Default for EventScanConfig {
             enabled: true,
             onset_every_s: 120,
             time_constants_s: vec![300.0, 600.0, 1200.0, 2400.0, 4800.0, 9600.0],
-            // Off by default: with pulses and plateaus in the family, the events absorb a true
-            // bias random walk (tests/it/walk_shape.rs: a 0.01 deg/h/√h gyro walk loses its
-            // evidence to them, and an oscillation's half-cycles taken as pulses let a walk
-            // pass). [`EventScanConfig::with_pulses_and_plateaus`] turns them on.
-            pulse_durations_s: Vec::new(),
-            plateau_rises_s: Vec::new(),
+            // Octaves: the widened blind draw's pulses and plateaus are located at their onset,
+            // not as a step at a pulse's end or a transient at a plateau's top. A walk keeps
+            // its evidence against them when its wander makes them insignificant (see
+            // `timelocal::excursions`) and is not promoted by their removal when it failed its
+            // shape test with them in place (`timelocal::keep_shape_refusals`).
+            pulse_durations_s: vec![600.0, 1200.0, 2400.0, 4800.0],
+            plateau_rises_s: vec![1200.0, 2400.0, 4800.0, 9600.0],
             max_events_per_run: 3,
             alpha: 1e-3,
             detectable_every_s: 3600.0,
@@ -74,13 +76,22 @@ pub enum Shape {
 
 impl EventScanConfig {
     /// The scan with pulses of 600-4800 s and ramps to a plateau rising over 1200-9600 s
-    /// (octaves): the widened blind draw's pulses and plateaus are then located at their onset
-    /// (not as a step at a pulse's end or a transient at a plateau's top), but a true bias
-    /// random walk can lose its evidence to them (see the comment in `EventScanConfig::default`).
+    /// (octaves), the default's lists, whatever `self` had.
     pub fn with_pulses_and_plateaus(self) -> Self {
+        let d = Self::default();
         Self {
-            pulse_durations_s: vec![600.0, 1200.0, 2400.0, 4800.0],
-            plateau_rises_s: vec![1200.0, 2400.0, 4800.0, 9600.0],
+            pulse_durations_s: d.pulse_durations_s,
+            plateau_rises_s: d.plateau_rises_s,
+            ..self
+        }
+    }
+
+    /// The scan without pulses and ramps to a plateau: steps, ramps and transients only (the
+    /// scan before 2026-11-30; a smaller family, so a lower threshold).
+    pub fn without_pulses_and_plateaus(self) -> Self {
+        Self {
+            pulse_durations_s: Vec::new(),
+            plateau_rises_s: Vec::new(),
             ..self
         }
     }

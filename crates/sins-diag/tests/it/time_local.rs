@@ -1,13 +1,13 @@
 //! The time-local scan end to end on simulated noisy runs (paper noise, 100 Hz, 6 h): a bias
 //! step, a ramp, a pulse, a ramp to a plateau and a turn-on transient injected by the simulator
 //! are reported as events on their channel with the onset within 3 sigma of the truth (a pulse
-//! and a plateau with their own shape, not as a step at one end, when the scan has those shapes:
-//! they are off by default); runs without an effect raise none.
+//! and a plateau with their own shape, not as a step at one end); runs without an effect raise
+//! none.
 
 use crate::common;
 use common::*;
 use sins_diag::diagnose;
-use sins_diag::events::{EventScanConfig, TimeLocalEvent};
+use sins_diag::events::TimeLocalEvent;
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::report::{Diagnosis, NoteKind, Verdict};
 use sins_imu::{EffectKind, EffectSpec};
@@ -15,19 +15,6 @@ use sins_nav::Vec3;
 
 /// Two noisy 6 h runs; `effects[i]` is added to run `i` only.
 fn diagnosed(effects: [Vec<EffectSpec>; 2]) -> Diagnosis {
-    diagnosed_with(effects, &DiagnoseConfig::default())
-}
-
-/// [`diagnosed`] with the scan's pulses and ramps to a plateau on.
-fn diagnosed_with_pulses(effects: [Vec<EffectSpec>; 2]) -> Diagnosis {
-    let cfg = DiagnoseConfig {
-        events: EventScanConfig::default().with_pulses_and_plateaus(),
-        ..DiagnoseConfig::default()
-    };
-    diagnosed_with(effects, &cfg)
-}
-
-fn diagnosed_with(effects: [Vec<EffectSpec>; 2], cfg: &DiagnoseConfig) -> Diagnosis {
     let mut scs = noisy_runs(
         turning_motion,
         100.0,
@@ -40,7 +27,7 @@ fn diagnosed_with(effects: [Vec<EffectSpec>; 2], cfg: &DiagnoseConfig) -> Diagno
     }
     let truth = scs[0].truth;
     let mut inp = input(&scs, &truth, None);
-    let d = diagnose(&mut inp, cfg).expect("diagnosis");
+    let d = diagnose(&mut inp, &DiagnoseConfig::default()).expect("diagnosis");
     eprintln!("{}", summary(&d));
     for e in &d.events.events {
         eprintln!("{e:?}");
@@ -150,7 +137,7 @@ fn an_accelerometer_pulse_is_found_as_a_pulse_at_its_start() {
     // pulses).
     let onset = 1.5 * 3600.0;
     let level = 150e-6 * 9.80665;
-    let d = diagnosed_with_pulses([
+    let d = diagnosed([
         vec![],
         vec![profile(EffectKind::AccelBiasPulse, 0, level, onset, 1500.0)],
     ]);
@@ -170,7 +157,7 @@ fn a_gyro_ramp_to_a_plateau_is_found_with_its_onset() {
     // 0.03 deg/h reached over 40 min from 1.7 h, in one run.
     let onset = 1.7 * 3600.0;
     let level = 0.03 * sins_nav::DEG_PER_H;
-    let d = diagnosed_with_pulses([
+    let d = diagnosed([
         vec![profile(
             EffectKind::GyroBiasPlateau,
             2,
