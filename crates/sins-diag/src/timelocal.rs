@@ -366,7 +366,12 @@ fn keep_shape_refusals(again: &mut [Evaluated], before: &[Evaluated]) -> bool {
             .find(|b| b.kind == e.kind)
             .and_then(|b| b.report.whiteness.as_ref())
             .is_some_and(|w| !w.consistent);
-        if let Some(w) = e.report.whiteness.as_mut().filter(|w| w.consistent && refused) {
+        if let Some(w) = e
+            .report
+            .whiteness
+            .as_mut()
+            .filter(|w| w.consistent && refused)
+        {
             w.consistent = false;
             carried = true;
         }
