@@ -249,7 +249,7 @@ fn rerank_stage(
         signals,
         absorbed: &absorbed,
     };
-    let (again, left) = ranked_without_events(&ranked, &located, ctx)?;
+    let (again, left) = ranked_without_events(&ranked, &located, ctx, notes)?;
     if let Some(again) = again {
         notes.push(ranked_again_note(events, &ranked, &again));
         ranked = again;

@@ -319,6 +319,7 @@ pub(crate) fn ranked_without_events(
     ranked: &[Evaluated],
     located: &Located<'_>,
     sc: &Context<'_>,
+    notes: &mut Vec<Note>,
 ) -> Result<(Option<Vec<Evaluated>>, Option<ChiSquareTest>), DiagError> {
     let cfg = sc.cfg;
     let events = located.events;
@@ -343,23 +344,42 @@ pub(crate) fn ranked_without_events(
         .count();
     let left = dist.test(p2.gls.chi2(), fitted, cfg.null_alpha);
     let mut again = evaluate(&p2, sc.layouts, sc.walks, &dist, cfg);
-    if keep_shape_refusals(&mut again, ranked) {
+    let carried = keep_shape_refusals(&mut again, ranked);
+    if !carried.is_empty() {
         finish_ranking(&mut again, sc.tests.n, cfg);
     }
-    Ok((
-        (leader(&again) != leader(ranked)).then_some(again),
-        Some(left),
-    ))
+    // Said of the walks the rule kept out: those that pass every other test there.
+    for e in again.iter().filter(|e| carried.contains(&e.kind)) {
+        let r = &e.report;
+        if !(r.p_value < cfg.alpha && r.delta_bic > 0.0 && r.evidence > 0.0) {
+            continue;
+        }
+        let lag1_z = r.whiteness.as_ref().map_or(f64::NAN, |w| w.lag1_z);
+        let text = format!(
+            "{}: not named; on the gap less the events it is significant (chi-square drop \
+             {:.1}) and its increments pass the shape test (lag-one z {:.1}), but they failed \
+             it on the whole gap: a walk must pass with the events in place as well",
+            r.kind, r.dchi2, lag1_z
+        );
+        notes.push(
+            Note::new(NoteKind::TimeLocal, text)
+                .subject(r.kind.clone())
+                .figure("dchi2_without_events", r.dchi2)
+                .figure("lag1_z_without_events", lag1_z),
+        );
+    }
+    let changed = leader(&again) != leader(ranked);
+    Ok((changed.then_some(again), Some(left)))
 }
 
 /// A noise term whose increments failed the shape test on the whole gap is not promoted by
 /// removing the events: with pulses in the scan, the half-cycles of an oscillation are taken
 /// one by one as pulses, and what they leave can pass for a walk of another channel
 /// (tests/it/walk_shape.rs, lag-one z −2.1 on the gap less the pulses against below −3 on the
-/// whole gap). A walk must pass with the events in place as well as without them. Returns
-/// whether any refusal was carried over.
-fn keep_shape_refusals(again: &mut [Evaluated], before: &[Evaluated]) -> bool {
-    let mut carried = false;
+/// whole gap). A walk must pass with the events in place as well as without them. Returns the
+/// kinds whose refusal was carried over.
+fn keep_shape_refusals(again: &mut [Evaluated], before: &[Evaluated]) -> Vec<EffectKind> {
+    let mut carried = Vec::new();
     for e in again.iter_mut() {
         let refused = before
             .iter()
@@ -373,7 +393,7 @@ fn keep_shape_refusals(again: &mut [Evaluated], before: &[Evaluated]) -> bool {
             .filter(|w| w.consistent && refused)
         {
             w.consistent = false;
-            carried = true;
+            carried.push(e.kind);
         }
     }
     carried

@@ -95,6 +95,25 @@ fn a_gyro_bias_oscillation_is_not_a_walk() {
         "{:?}",
         d.verdict
     );
+    // The walk the rule kept out is named in a note with its figures on the gap less the
+    // events: significant there, passing its shape test there.
+    let kept_out: Vec<_> = d
+        .notes
+        .iter()
+        .filter(|n| n.text.contains("a walk must pass with the events in place"))
+        .collect();
+    assert!(!kept_out.is_empty(), "{:?}", d.notes);
+    let figure = |n: &sins_diag::report::Note, name: &str| {
+        n.figures
+            .iter()
+            .find(|f| f.name == name)
+            .map(|f| f.value)
+            .unwrap_or_else(|| panic!("no {name} in {n:?}"))
+    };
+    for n in kept_out {
+        assert!(figure(n, "lag1_z_without_events") > -3.0, "{n:?}");
+        assert!(figure(n, "dchi2_without_events") > 10.0, "{n:?}");
+    }
 }
 
 #[test]
