@@ -279,10 +279,8 @@ pub fn finish_ranking(out: &mut [Evaluated], n: f64, cfg: &DiagnoseConfig) {
         let r = &mut e.report;
         r.plausibility_penalty = plausibility_penalty(e.kind, &r.components);
         r.evidence = r.dchi2 / inflation - r.dof as f64 * n.ln() - r.plausibility_penalty;
-        r.passes = r.p_value < cfg.alpha
-            && r.delta_bic > 0.0
-            && r.evidence > 0.0
-            && r.whiteness.as_ref().is_none_or(|w| w.consistent);
+        r.passes =
+            passes_but_for_shape(r, cfg) && r.whiteness.as_ref().is_none_or(|w| w.consistent);
     }
     out.sort_by(|a, b| {
         b.report
@@ -290,6 +288,12 @@ pub fn finish_ranking(out: &mut [Evaluated], n: f64, cfg: &DiagnoseConfig) {
             .cmp(&a.report.passes)
             .then(b.report.evidence.total_cmp(&a.report.evidence))
     });
+}
+
+/// Whether a report passes every test of [`finish_ranking`] but a noise term's shape test: its
+/// Bonferroni p-value below `alpha`, its ΔBIC and its evidence positive.
+pub(crate) fn passes_but_for_shape(r: &CandidateReport, cfg: &DiagnoseConfig) -> bool {
+    r.p_value < cfg.alpha && r.delta_bic > 0.0 && r.evidence > 0.0
 }
 
 /// When the null test finds no significant gap, a candidate named as a cause must also survive

@@ -11,7 +11,7 @@ use crate::events::{
 };
 use crate::input::DiagnoseConfig;
 use crate::problem::{Problem, RunFitData};
-use crate::rank::{Evaluated, Layout, NullDist, evaluate, finish_ranking};
+use crate::rank::{Evaluated, Layout, NullDist, evaluate, finish_ranking, passes_but_for_shape};
 use crate::report::{CandidateReport, ChiSquareTest, Note, NoteKind, Verdict};
 use crate::stats::chi2_sf;
 use crate::walk::fit_walk;
@@ -351,7 +351,7 @@ pub(crate) fn ranked_without_events(
     // Said of the walks the rule kept out: those that pass every other test there.
     for e in again.iter().filter(|e| carried.contains(&e.kind)) {
         let r = &e.report;
-        if !(r.p_value < cfg.alpha && r.delta_bic > 0.0 && r.evidence > 0.0) {
+        if !passes_but_for_shape(r, cfg) {
             continue;
         }
         let lag1_z = r.whiteness.as_ref().map_or(f64::NAN, |w| w.lag1_z);

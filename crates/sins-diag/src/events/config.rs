@@ -75,17 +75,6 @@ pub enum Shape {
 }
 
 impl EventScanConfig {
-    /// The scan with pulses of 600-4800 s and ramps to a plateau rising over 1200-9600 s
-    /// (octaves), the default's lists, whatever `self` had.
-    pub fn with_pulses_and_plateaus(self) -> Self {
-        let d = Self::default();
-        Self {
-            pulse_durations_s: d.pulse_durations_s,
-            plateau_rises_s: d.plateau_rises_s,
-            ..self
-        }
-    }
-
     /// The scan without pulses and ramps to a plateau: steps, ramps and transients only (the
     /// scan before 2026-11-30; a smaller family, so a lower threshold).
     pub fn without_pulses_and_plateaus(self) -> Self {
