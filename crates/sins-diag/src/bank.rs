@@ -9,7 +9,7 @@
 
 use crate::align::{AlignmentReplica, CoarseJacobian};
 use crate::columns::{ColumnEval, Perturbation, SampleInputs, Triad};
-use crate::model::{ErrorModel, Forcing, Mat7, Moments, R_E, R_N, Vec7};
+use crate::model::{ErrorModel, Mat7, Moments, R_E, R_N, Vec7};
 use sins_nav::{Mat3, Vec3};
 
 /// Columns, their states and their recorded responses.
@@ -108,25 +108,32 @@ impl ColumnBank {
     }
 
     /// Add this sample's forcing, resolved in NED with `c_nb`, applied `w_s` before the bin end.
+    /// Only the forcing's non-zero parts are added (see [`Moments::add_part`]): an axis column
+    /// forces three or two components, and most effects act on one triad only.
     #[inline]
     pub fn add(&mut self, s: &SampleInputs, c_nb: &Mat3, w_s: f64) {
         let n = self.active();
+        let half_w2 = 0.5 * w_s * w_s;
         for (e, m) in self.evals[..n].iter_mut().zip(&mut self.mom) {
-            let u = match e.perturbation(s) {
+            match e.perturbation(s) {
                 Perturbation::Axis { triad, row, value } => {
                     let c = c_nb.column(row) * value;
                     match triad {
-                        Triad::Gyro => Forcing::from([c.x, c.y, c.z, 0.0, 0.0]),
-                        Triad::Accel => Forcing::from([0.0, 0.0, 0.0, c.x, c.y]),
+                        Triad::Gyro => m.add_part(0, [c.x, c.y, c.z], w_s, half_w2),
+                        Triad::Accel => m.add_part(3, [c.x, c.y], w_s, half_w2),
                     }
                 }
                 Perturbation::Full { dtheta_rad, dv_mps } => {
-                    let g = c_nb * dtheta_rad;
-                    let a = c_nb * dv_mps;
-                    Forcing::from([g.x, g.y, g.z, a.x, a.y])
+                    if dtheta_rad != Vec3::zeros() {
+                        let g = c_nb * dtheta_rad;
+                        m.add_part(0, [g.x, g.y, g.z], w_s, half_w2);
+                    }
+                    if dv_mps != Vec3::zeros() {
+                        let a = c_nb * dv_mps;
+                        m.add_part(3, [a.x, a.y], w_s, half_w2);
+                    }
                 }
-            };
-            m.add(&u, w_s);
+            }
         }
     }
 

@@ -91,6 +91,15 @@ pub fn earth_rate_ned_radps(lat_rad: f64) -> Vec3 {
     Vec3::new(Wgs84::OMEGA_IE_RADPS * c, 0.0, -Wgs84::OMEGA_IE_RADPS * s)
 }
 
+/// Meridian and transverse radii of curvature `(R_M, R_N)` (m) at a latitude of sine `sin_lat`.
+#[inline]
+fn radii_m(sin_lat: f64) -> (f64, f64) {
+    let s2 = sin_lat * sin_lat;
+    let w = 1.0 - Wgs84::E2 * s2;
+    let rn = Wgs84::A_M / w.sqrt();
+    (rn * (1.0 - Wgs84::E2) / w, rn)
+}
+
 /// Local Earth quantities at one latitude and height, cached for a mechanization step.
 #[derive(Clone, Copy, Debug)]
 pub struct EarthAt {
@@ -112,10 +121,7 @@ impl EarthAt {
     /// Evaluate the Earth model at latitude `lat_rad` and height `height_m`.
     pub fn new(lat_rad: f64, height_m: f64) -> Self {
         let (sin_lat, cos_lat) = lat_rad.sin_cos();
-        let s2 = sin_lat * sin_lat;
-        let w = 1.0 - Wgs84::E2 * s2;
-        let rn = Wgs84::A_M / w.sqrt();
-        let rm = rn * (1.0 - Wgs84::E2) / w;
+        let (rm, rn) = radii_m(sin_lat);
         Self {
             sin_lat,
             cos_lat,
@@ -128,6 +134,14 @@ impl EarthAt {
                 -Wgs84::OMEGA_IE_RADPS * sin_lat,
             ),
         }
+    }
+
+    /// `R_M + h` (m) alone: [`EarthAt::new`]`(lat_rad, height_m).meridian_plus_h_m` to the
+    /// bit, without the gravity and Earth rate (a mechanization step needs only this at the
+    /// step's start).
+    pub fn meridian_plus_h_at(lat_rad: f64, height_m: f64) -> f64 {
+        let (sin_lat, _) = lat_rad.sin_cos();
+        radii_m(sin_lat).0 + height_m
     }
 
     /// Transport rate ω_en^n (rad/s) for NED velocity `vel_ned_mps`:
@@ -150,6 +164,21 @@ impl EarthAt {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The step-start radius is the full model's, bit for bit, from pole to pole.
+    #[test]
+    fn meridian_radius_alone_equals_the_full_models() {
+        for k in -900..=900 {
+            let lat = f64::from(k) * 0.1f64.to_radians() + 1e-9;
+            for h in [-400.0, 0.0, 60.0, 8848.0] {
+                let full = EarthAt::new(lat, h).meridian_plus_h_m;
+                assert_eq!(
+                    EarthAt::meridian_plus_h_at(lat, h).to_bits(),
+                    full.to_bits()
+                );
+            }
+        }
+    }
 
     #[test]
     fn somigliana_matches_published_values() {

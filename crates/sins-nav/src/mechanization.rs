@@ -290,8 +290,8 @@ impl Strapdown {
         let st = &mut self.state;
         // Midpoint extrapolation of velocity and position for the Earth terms.
         let v_mid = st.vel_ned_mps + 0.5 * (st.vel_ned_mps - self.prev_vel_ned_mps);
-        let earth0 = EarthAt::new(st.position.lat_rad, st.position.height_m);
-        let lat_mid = st.position.lat_rad + 0.5 * t * v_mid.x / earth0.meridian_plus_h_m;
+        let meridian0_m = EarthAt::meridian_plus_h_at(st.position.lat_rad, st.position.height_m);
+        let lat_mid = st.position.lat_rad + 0.5 * t * v_mid.x / meridian0_m;
         let h_mid = st.position.height_m - 0.5 * t * v_mid.z;
         let earth = EarthAt::new(lat_mid, h_mid);
         let w_ie = earth.earth_rate_ned_radps;
