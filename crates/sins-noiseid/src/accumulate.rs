@@ -65,7 +65,9 @@ struct Open {
     x: [f64; CHANNELS],
     raw_sum: [f64; CHANNELS],
     points: u64,
-    ring: Vec<f64>,
+    /// The last points of `x`, all channels of a point together (so that one point's six
+    /// second differences are computed side by side).
+    ring: Vec<[f64; CHANNELS]>,
     mask: usize,
     short_ss: Vec<[f64; CHANNELS]>,
     short_n: Vec<u64>,
@@ -148,7 +150,7 @@ impl Accumulator {
                 x: [0.0; CHANNELS],
                 raw_sum: [0.0; CHANNELS],
                 points: 0,
-                ring: vec![0.0; len * CHANNELS],
+                ring: vec![[0.0; CHANNELS]; len],
                 mask: len - 1,
                 short_ss: vec![[0.0; CHANNELS]; octaves],
                 short_n: vec![0; octaves],
@@ -157,25 +159,22 @@ impl Accumulator {
         });
         o.points += 1;
         let p = o.points as usize;
-        let len = o.mask + 1;
         for (c, &vc) in v.iter().enumerate() {
             o.raw_sum[c] += vc;
             o.x[c] += vc - o.reference[c];
-            let ring = &mut o.ring[c * len..(c + 1) * len];
-            ring[p & o.mask] = o.x[c];
-            for j in 0..octaves {
-                let m = 1usize << j;
-                if p < 2 * m {
-                    break;
-                }
-                let d = o.x[c] - 2.0 * ring[(p - m) & o.mask] + ring[(p - 2 * m) & o.mask];
-                o.short_ss[j][c] += d * d;
-            }
         }
+        o.ring[p & o.mask] = o.x;
         for j in 0..octaves {
-            if p >= 2 << j {
-                o.short_n[j] += 1;
+            let m = 1usize << j;
+            if p < 2 * m {
+                break;
             }
+            let (a, b) = (&o.ring[(p - m) & o.mask], &o.ring[(p - 2 * m) & o.mask]);
+            for (c, ss) in o.short_ss[j].iter_mut().enumerate() {
+                let d = o.x[c] - 2.0 * a[c] + b[c];
+                *ss += d * d;
+            }
+            o.short_n[j] += 1;
         }
         if p.is_multiple_of(bin) {
             o.bins.push(o.x);

@@ -123,13 +123,8 @@ fn write_with_layout(
         path,
     )?;
     for s in &rec.series {
-        let times = rerun::TimeColumn::new_duration_secs(TIMELINE, s.times_s.iter().copied());
-        let columns = rerun::Scalars::update_fields()
-            .with_scalars(s.values.iter().copied())
-            .columns_of_unit_batches()
-            .map_err(|e| err(&e))?;
-        stream
-            .send_columns(s.entity.as_str(), [times], columns)
+        let (times, values) = (s.times_s.iter().copied(), s.values.iter().copied());
+        crate::send_scalars(&stream, s.entity.as_str(), TIMELINE, times, values)
             .map_err(|e| err(&e))?;
     }
     for s in &rec.strips {
