@@ -19,7 +19,7 @@ const N_INPUTS: usize = 13;
 /// Inputs padded to whole SIMD vectors of up to 8 lanes (the padding inputs are zero and their
 /// sums are never read).
 const N_LANES: usize = 16;
-const _: () = assert!(N_INPUTS <= N_LANES && N_LANES % 8 == 0);
+const _: () = assert!(N_INPUTS <= N_LANES && N_LANES.is_multiple_of(8));
 /// Number of moments kept.
 const N_MOMENTS: usize = 3;
 
