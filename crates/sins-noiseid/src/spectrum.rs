@@ -84,21 +84,12 @@ impl Grid {
             .collect();
         let mut c = DMatrix::<f64>::zeros(n, n);
         for i in 0..n {
-            // `(S² w G_i) G_j` summed in frequency order, four `j` side by side (independent
-            // sums, so the products and sums are each one's as if it were alone).
-            let a: Vec<f64> = s2w.iter().zip(&filters[i]).map(|(s, f)| s * f).collect();
-            for j0 in (0..=i).step_by(4) {
-                let js = j0..(j0 + 4).min(i + 1);
-                let mut acc = [-0.0f64; 4];
-                for (k, ak) in a.iter().enumerate() {
-                    for (sum, j) in acc.iter_mut().zip(js.clone()) {
-                        *sum += ak * filters[j][k];
-                    }
-                }
-                for (v, j) in acc.into_iter().zip(js) {
-                    c[(i, j)] = v;
-                    c[(j, i)] = v;
-                }
+            for j in 0..=i {
+                let v: f64 = (0..s2w.len())
+                    .map(|k| s2w[k] * filters[i][k] * filters[j][k])
+                    .sum();
+                c[(i, j)] = v;
+                c[(j, i)] = v;
             }
         }
         let d: Vec<f64> = (0..n)
