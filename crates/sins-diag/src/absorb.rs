@@ -27,7 +27,7 @@ use crate::temperature::TemperatureSeries;
 use sins_harness::pipeline::calibration_filter;
 use sins_imu::effects::{ContextTracker, EffectContext, ExtraEffect};
 use sins_imu::{Compensator, EffectKind, EffectSpec, ImuErrorParams, ImuSample};
-use sins_kf::{CalibrationFilter, FilterNoise, params_to_vec};
+use sins_kf::{CalibrationFilter, FilterNoise, StandardizedInnovation, params_to_vec};
 use sins_nav::Geodetic;
 
 /// Size of the finite-difference perturbation, in multiples of the kind's typical magnitude.
@@ -44,6 +44,9 @@ pub struct Absorption {
     pub jacobian: Vec<Vec<f64>>,
     /// The recalibration of the run as recorded (SI, eq 8 order).
     pub recalibrated: Vec<f64>,
+    /// That recalibration's standardized innovations, one per update (see
+    /// [`crate::cal_innovations`]).
+    pub recorded_innovations: Vec<StandardizedInnovation>,
 }
 
 impl Absorption {
@@ -96,7 +99,8 @@ impl Absorption {
             })?;
         let theta_without = recalibrate(cal, params, noise, &[Some(spec)], 1)?
             .pop()
-            .ok_or_else(|| DiagError::Numerical("no recalibration".into()))?;
+            .ok_or_else(|| DiagError::Numerical("no recalibration".into()))?
+            .theta;
         let model = params.model;
         let theta: Vec<f64> = params_to_vec(params, model)
             .iter()
@@ -109,6 +113,15 @@ impl Absorption {
             params.reference_temperature_degc,
         ))
     }
+}
+
+/// What one recalibration of the calibration run gives.
+#[derive(Clone, Debug)]
+pub struct Recalibration {
+    /// The estimate (SI, eq 8 order).
+    pub theta: Vec<f64>,
+    /// The standardized innovation of every update.
+    pub innovations: Vec<StandardizedInnovation>,
 }
 
 /// One filter fed with the run plus one perturbation.
@@ -153,15 +166,15 @@ impl<'a> CalibrationRun<'a> {
 /// Recalibrate calibration run `cal` once per entry of `perturbations` (`None`: as recorded;
 /// `Some(spec)`: with `spec`'s perturbation added to every sample), with the filter of
 /// `params.model` referred to `params`' reference temperature and driven by the twin's `noise`;
-/// the estimates in eq 8 order (SI). One pass over the data feeds every filter, `threads` at
-/// once (the result does not depend on it).
+/// the estimates in eq 8 order (SI) and every update's standardized innovation. One pass over
+/// the data feeds every filter, `threads` at once (the result does not depend on it).
 pub fn recalibrate(
     cal: CalibrationRun<'_>,
     params: &ImuErrorParams,
     noise: &NoiseSpec,
     perturbations: &[Option<EffectSpec>],
     threads: usize,
-) -> Result<Vec<Vec<f64>>, DiagError> {
+) -> Result<Vec<Recalibration>, DiagError> {
     let CalibrationRun {
         run,
         source,
@@ -190,7 +203,8 @@ pub fn recalibrate(
                 filter_noise,
                 params.reference_temperature_degc,
             )
-            .map_err(filter_err)?,
+            .map_err(filter_err)?
+            .keep_innovations(),
         });
     }
     let comp = Compensator::new(*params)
@@ -220,7 +234,10 @@ pub fn recalibrate(
     arms.into_iter()
         .map(|arm| {
             let r = arm.filter.finish().map_err(filter_err)?;
-            Ok(params_to_vec(&r.params, model))
+            Ok(Recalibration {
+                theta: params_to_vec(&r.params, model),
+                innovations: r.innovations,
+            })
         })
         .collect()
 }
@@ -252,10 +269,10 @@ pub fn absorption(
     let jacobian = results
         .iter()
         .zip(&steps)
-        .map(|(theta, step)| {
-            theta
+        .map(|(r, step)| {
+            r.theta
                 .iter()
-                .zip(&base)
+                .zip(&base.theta)
                 .map(|(a, b)| (a - b) / step)
                 .collect()
         })
@@ -264,7 +281,8 @@ pub fn absorption(
         run,
         components: components.to_vec(),
         jacobian,
-        recalibrated: base,
+        recalibrated: base.theta,
+        recorded_innovations: base.innovations,
     })
 }
 

@@ -91,8 +91,8 @@ pub(crate) fn absorbed_events(
     // Δθ of all the events together (each measured alone; the filter is linear in them to
     // the order the columns are).
     let mut delta = vec![0.0; a.recalibrated.len()];
-    for theta in &without {
-        for ((d, r), w) in delta.iter_mut().zip(&a.recalibrated).zip(theta) {
+    for recal in &without {
+        for ((d, r), w) in delta.iter_mut().zip(&a.recalibrated).zip(&recal.theta) {
             *d += r - w;
         }
     }

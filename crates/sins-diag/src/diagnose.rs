@@ -11,9 +11,11 @@
 //! | scan | `scan_stage` | `Scanned` | the time-local events and their signals; the ranking once a leading walk has met them; the whitened runs |
 //! | rerank | `rerank_stage` | `Reranked` | the calibration run's events through the coefficients; the ranking on the gap less the located events; the gap they leave |
 //! | judge | `judge_stage` (`judge`) | `Judged` | the winner's constancy; the verdict after the events, the rival time courses and the design's confounds |
+//! | check | `calibration_check` (`cal_innovations`) | `Judged` | the verdict once the calibration run's filter innovations are explained by a named cause, or "unexplained" |
 //! | report | `report_stage` | `Diagnosis` | each run's localisation; the winner's fitted series and withheld validation |
 
 use crate::cal_events::absorbed_events;
+use crate::cal_innovations::calibration_check;
 use crate::calib::{ParamUncertainty, uncertainty};
 use crate::catalogue::{Catalogue, catalogue};
 use crate::context::{Context, GapFit};
@@ -65,6 +67,7 @@ pub fn diagnose(input: &mut DiagnosisInput, cfg: &DiagnoseConfig) -> Result<Diag
     let reranked = rerank_stage(input, &ctx, &null, ranked, &events, &signals, &mut notes)?;
     let names: Vec<String> = input.runs.iter().map(|r| r.name.clone()).collect();
     let judged = judge_stage(&ctx, &names, &null, reranked, &events, stacked, &mut notes)?;
+    let judged = calibration_check(input, &ctx, judged, &mut notes)?;
     report_stage(input, &ctx, null, events, judged, notes)
 }
 

@@ -40,7 +40,9 @@ pub mod confound;
 pub mod rival;
 mod stacked;
 mod whiten;
-// 6. Verdict, localisation, validation, and the diagnosis that runs the stages.
+// 6. Verdict, its check against the calibration run, localisation, validation, and the
+// diagnosis that runs the stages.
+pub mod cal_innovations;
 mod constancy;
 mod diagnose;
 mod judge;

@@ -406,6 +406,9 @@ pub enum NoteKind {
     NoCredit,
     /// The rival time courses and what the nested tests concluded.
     Rivals,
+    /// The calibration run's filter innovations: outliers the paper's model does not explain,
+    /// and whether a named cause, removed, accounts for them.
+    CalibrationInnovations,
     /// From the noise identification the twin's noise came from (motion left out, bias
     /// changes, a model inconsistent with its data).
     NoiseIdentification,

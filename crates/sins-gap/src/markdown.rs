@@ -3,7 +3,7 @@
 
 use crate::run::DiagnosisOutcome;
 use sins_config::markdown::Table;
-use sins_diag::report::{CandidateModel, Verdict};
+use sins_diag::report::{CandidateModel, NoteKind, Verdict};
 use std::fmt::Write as _;
 
 /// `v` with `digits` significant digits (fixed notation from 1e-3 to 1e5, else exponent).
@@ -59,6 +59,13 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
     let d = &o.diagnosis;
     let mut md = String::from("# Sim-to-real gap diagnosis\n\n");
     let _ = writeln!(md, "{}\n", verdict_line(&d.verdict));
+    for n in d
+        .notes
+        .iter()
+        .filter(|n| n.kind == NoteKind::CalibrationInnovations)
+    {
+        let _ = writeln!(md, "**The calibration run's own evidence**: {n}.\n");
+    }
     if let Some(line) = crate::markdown_rivals::confound_line(d) {
         let _ = writeln!(md, "{line}\n");
     }
@@ -331,7 +338,7 @@ pub fn render_markdown(o: &DiagnosisOutcome, plots: &[String]) -> String {
         md,
         "- Every run is a turntable run at the fixed site of its file's metadata; the first 20 min are a stationary self-alignment; errors are horizontal position errors against the site.\n\
          - The twin is the calibrated parameter set with the given noise model; candidate effects are linearised about zero (about the refined estimate for refined candidates).\n\
-         - Limits: an effect outside the catalogue that leaves the same signature as a candidate, with one magnitude in every run, is reported as that candidate (runs with different motions and temperature profiles sharpen the constancy test); bias random walks are modelled in 20 min lumps, so a bias step shows as a misfit of the walk rather than as one outlier increment.\n\
+         - Limits: an effect outside the catalogue that leaves the same signature as a candidate, with one magnitude in every run, is reported as that candidate (runs with different motions and temperature profiles sharpen the constancy test), unless it also acted during the calibration run and left innovations there that the candidate does not explain; bias random walks are modelled in 20 min lumps, so a bias step shows as a misfit of the walk rather than as one outlier increment.\n\
          - Run time: replays {:.1} s, diagnosis {:.1} s.",
         o.replay_s, o.diagnose_s
     );

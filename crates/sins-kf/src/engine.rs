@@ -39,6 +39,8 @@ pub(crate) struct UpdateOutcome {
     /// Normalized horizontal velocity innovation `z_N²/S_NN + z_E²/S_EE` (χ² with 2 degrees of
     /// freedom for a consistent filter).
     pub(crate) horizontal_nis: f64,
+    /// North and east innovations over the square roots of their predicted variances.
+    pub(crate) standardized: [f64; 2],
     /// Corrections of the coefficient estimates (state order); zeros when rejected.
     pub(crate) dparams: Vec<f64>,
     /// True when the innovation exceeded the gate and the measurement was not used.
@@ -250,11 +252,13 @@ impl Engine {
         ];
         let innovation = v.x.hypot(v.y);
         let nis = v.x * v.x / s_h[0] + v.y * v.y / s_h[1];
+        let standardized = [v.x / s_h[0].sqrt(), v.y / s_h[1].sqrt()];
         if innovation > gate_mps {
             return Ok(UpdateOutcome {
                 t_s: st.t_s,
                 horizontal_innovation_mps: innovation,
                 horizontal_nis: nis,
+                standardized,
                 dparams: vec![0.0; self.n_params],
                 rejected: true,
             });
@@ -290,6 +294,7 @@ impl Engine {
             t_s: st.t_s,
             horizontal_innovation_mps: innovation,
             horizontal_nis: nis,
+            standardized,
             rejected: false,
             dparams: x[NAV_STATES..first_wander].to_vec(),
         })

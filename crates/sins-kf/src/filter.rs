@@ -13,7 +13,7 @@
 use crate::config::CalibrationConfig;
 use crate::engine::Engine;
 use crate::error::CalibrationError;
-use crate::report::{CalibrationResult, ObservabilityReport, Snapshot};
+use crate::report::{CalibrationResult, ObservabilityReport, Snapshot, StandardizedInnovation};
 use crate::states::{NAV_STATES, params_from_vec, params_to_vec};
 use sins_imu::{Compensator, ImuErrorParams, ImuSample, ParamModel};
 use sins_nav::alignment::SelfAlignment;
@@ -37,6 +37,8 @@ pub struct CalibrationFilter {
     exceeded_s: f64,
     max_innovation_mps: f64,
     max_nis: f64,
+    /// Every update's standardized innovation, when kept.
+    innovations: Option<Vec<StandardizedInnovation>>,
 }
 
 enum Phase {
@@ -94,7 +96,15 @@ impl CalibrationFilter {
             exceeded_s: 0.0,
             max_innovation_mps: 0.0,
             max_nis: 0.0,
+            innovations: None,
         })
+    }
+
+    /// Keep every update's standardized innovation for [`CalibrationResult::innovations`]
+    /// (three numbers per update).
+    pub fn keep_innovations(mut self) -> Self {
+        self.innovations = Some(Vec::new());
+        self
     }
 
     /// The current estimate of the constant coefficients.
@@ -203,6 +213,14 @@ impl CalibrationFilter {
             .map_err(|reason| CalibrationError::Diverged { t_s, reason })?;
         self.max_innovation_mps = self.max_innovation_mps.max(out.horizontal_innovation_mps);
         self.max_nis = self.max_nis.max(out.horizontal_nis);
+        if let Some(kept) = self.innovations.as_mut() {
+            let [north, east] = out.standardized;
+            kept.push(StandardizedInnovation {
+                t_s: out.t_s,
+                north,
+                east,
+            });
+        }
         if out.rejected {
             self.exceeded_s += engine.interval_s();
             if self.exceeded_s > mc.max_duration_s {
@@ -277,6 +295,7 @@ impl CalibrationFilter {
             updates: engine.updates,
             max_innovation_mps: self.max_innovation_mps,
             max_normalized_innovation: self.max_nis,
+            innovations: self.innovations.unwrap_or_default(),
             history: self.history,
         })
     }

@@ -37,5 +37,7 @@ pub use config::{CalibrationConfig, FilterNoise, InitialSigmas, MeasurementNoise
 pub use engine::{ARW_FLOOR_RAD_PER_SQRT_S, VRW_FLOOR_MPS_PER_SQRT_S};
 pub use error::CalibrationError;
 pub use filter::CalibrationFilter;
-pub use report::{CalibrationResult, ObservabilityReport, Snapshot, StateObservability};
+pub use report::{
+    CalibrationResult, ObservabilityReport, Snapshot, StandardizedInnovation, StateObservability,
+};
 pub use states::{STATE_NAMES, STATE_UNITS, n_params, params_from_vec, params_to_vec};

@@ -81,6 +81,19 @@ impl ObservabilityReport {
     }
 }
 
+/// One measurement update's horizontal velocity innovation, each component divided by the
+/// square root of its predicted variance (`z_N/√S_NN`, `z_E/√S_EE`): standard normal when the
+/// filter's model holds (any mistuning of its noise scales them by a constant).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StandardizedInnovation {
+    /// Time (s) of the update.
+    pub t_s: f64,
+    /// North component (dimensionless).
+    pub north: f64,
+    /// East component (dimensionless).
+    pub east: f64,
+}
+
 /// Result of a calibration run.
 #[derive(Clone, Debug)]
 pub struct CalibrationResult {
@@ -113,4 +126,7 @@ pub struct CalibrationResult {
     /// Largest normalized horizontal velocity innovation `z_N²/S_NN + z_E²/S_EE` of any update
     /// (χ² with 2 degrees of freedom when the filter is consistent).
     pub max_normalized_innovation: f64,
+    /// Every update's standardized innovation, rejected ones included, when asked for
+    /// ([`crate::CalibrationFilter::keep_innovations`]); empty otherwise.
+    pub innovations: Vec<StandardizedInnovation>,
 }
