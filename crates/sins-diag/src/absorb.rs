@@ -97,7 +97,7 @@ impl Absorption {
             .ok_or_else(|| {
                 DiagError::input(&self.run, format!("{}: bad magnitudes", kind.name()))
             })?;
-        let theta_without = recalibrate(cal, params, noise, &[Some(spec)], 1)?
+        let theta_without = recalibrate(cal, params, noise, &[Some(spec)], 0, 1)?
             .pop()
             .ok_or_else(|| DiagError::Numerical("no recalibration".into()))?
             .theta;
@@ -166,13 +166,16 @@ impl<'a> CalibrationRun<'a> {
 /// Recalibrate calibration run `cal` once per entry of `perturbations` (`None`: as recorded;
 /// `Some(spec)`: with `spec`'s perturbation added to every sample), with the filter of
 /// `params.model` referred to `params`' reference temperature and driven by the twin's `noise`;
-/// the estimates in eq 8 order (SI) and every update's standardized innovation. One pass over
-/// the data feeds every filter, `threads` at once (the result does not depend on it).
+/// the estimates in eq 8 order (SI), and the standardized innovation of every update for the
+/// first `keep_innovations` entries (the others' are left empty: three numbers per update and
+/// filter). One pass over the data feeds every filter, `threads` at once (the result does not
+/// depend on it).
 pub fn recalibrate(
     cal: CalibrationRun<'_>,
     params: &ImuErrorParams,
     noise: &NoiseSpec,
     perturbations: &[Option<EffectSpec>],
+    keep_innovations: usize,
     threads: usize,
 ) -> Result<Vec<Recalibration>, DiagError> {
     let CalibrationRun {
@@ -193,18 +196,21 @@ pub fn recalibrate(
         noise.accel_bias.correlation_s,
     );
     let mut arms = Vec::with_capacity(perturbations.len());
-    for p in perturbations {
+    for (i, p) in perturbations.iter().enumerate() {
+        let filter = calibration_filter(
+            model,
+            h,
+            *site,
+            filter_noise,
+            params.reference_temperature_degc,
+        )
+        .map_err(filter_err)?;
         arms.push(Arm {
             effect: p.as_ref().map(|spec| spec.build(params)),
-            filter: calibration_filter(
-                model,
-                h,
-                *site,
-                filter_noise,
-                params.reference_temperature_degc,
-            )
-            .map_err(filter_err)?
-            .keep_innovations(),
+            filter: match i < keep_innovations {
+                true => filter.keep_innovations(),
+                false => filter,
+            },
         });
     }
     let comp = Compensator::new(*params)
@@ -264,7 +270,7 @@ pub fn absorption(
         perturbations.push(Some(spec));
         steps.push(step);
     }
-    let mut results = recalibrate(cal, params, noise, &perturbations, threads)?;
+    let mut results = recalibrate(cal, params, noise, &perturbations, 1, threads)?;
     let base = results.remove(0);
     let jacobian = results
         .iter()

@@ -87,7 +87,7 @@ pub(crate) fn absorbed_events(
     }
     let (params, noise) = (input.params, input.noise);
     let cal = CalibrationRun::among(&mut input.runs, &a.run)?;
-    let without = recalibrate(cal, &params, &noise, &removed, cfg.threads)?;
+    let without = recalibrate(cal, &params, &noise, &removed, 0, cfg.threads)?;
     // Δθ of all the events together (each measured alone; the filter is linear in them to
     // the order the columns are).
     let mut delta = vec![0.0; a.recalibrated.len()];

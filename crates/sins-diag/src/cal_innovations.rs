@@ -126,7 +126,7 @@ pub(crate) fn calibration_check(
             Some(spec) => {
                 let (params, noise) = (input.params, input.noise);
                 let cal = CalibrationRun::among(&mut input.runs, &a.run)?;
-                let r = recalibrate(cal, &params, &noise, &[Some(spec)], 1)?;
+                let r = recalibrate(cal, &params, &noise, &[Some(spec)], 1, 1)?;
                 r.first()
                     .map(|r| innovation_outliers(&r.innovations, alpha))
             }

@@ -159,6 +159,7 @@ fn a_step_in_the_calibration_run_is_recalibrated_away() {
         &biased.params,
         &NoiseSpec::from(&with.noise),
         &[None, Some(step(-300.0))],
+        0,
         2,
     )
     .expect("recalibration");
@@ -211,6 +212,7 @@ fn the_calibration_innovations_tell_a_cross_coupling_from_a_scale_asymmetry() {
         &noise,
         &[None],
         1,
+        1,
     )
     .expect("recalibration");
     let clean = innovation_outliers(&clean[0].innovations, alpha);
@@ -225,6 +227,7 @@ fn the_calibration_innovations_tell_a_cross_coupling_from_a_scale_asymmetry() {
         &biased.params,
         &noise,
         &[None, Some(coupling(-281.0)), Some(asymmetry)],
+        3,
         2,
     )
     .expect("recalibration");
