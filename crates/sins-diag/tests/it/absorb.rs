@@ -44,6 +44,21 @@ fn cal_run<'a>(
     }
 }
 
+/// `sc` simulated and recalibrated with `params` and its own noise once per entry of `arms`
+/// (`absorb::recalibrate`, innovations kept for the first `keep`).
+fn recalibrated(
+    sc: &sins_sim::Scenario,
+    params: &sins_imu::ImuErrorParams,
+    arms: &[Option<sins_imu::EffectSpec>],
+    keep: usize,
+) -> Vec<sins_diag::absorb::Recalibration> {
+    let mut src = common::source(sc);
+    let temps = temperature_series(&mut src, 60).expect("temperatures");
+    let noise = NoiseSpec::from(&sc.noise);
+    sins_diag::absorb::recalibrate(cal_run(&mut src, sc, &temps), params, &noise, arms, keep, 2)
+        .expect("recalibration")
+}
+
 #[test]
 fn absorption_predicts_the_calibration_of_an_imu_with_the_effect() {
     let cal = calibration_scenario();
@@ -139,7 +154,6 @@ fn absorption_predicts_the_calibration_of_an_imu_with_the_effect() {
 /// removed from every sample gives back the calibration of the IMU without it.
 #[test]
 fn a_step_in_the_calibration_run_is_recalibrated_away() {
-    use sins_diag::absorb::recalibrate;
     use sins_imu::EffectSpec;
     let cal = calibration_scenario();
     // A 300 ug step on the x accelerometer two hours into the 4.2 h scheme.
@@ -151,18 +165,7 @@ fn a_step_in_the_calibration_run_is_recalibrated_away() {
     let mut with = cal.clone();
     with.effects.push(step(300.0));
     let biased = calibrate(&with);
-
-    let mut src = common::source(&with);
-    let temps = temperature_series(&mut src, 60).expect("temperatures");
-    let sets = recalibrate(
-        cal_run(&mut src, &with, &temps),
-        &biased.params,
-        &NoiseSpec::from(&with.noise),
-        &[None, Some(step(-300.0))],
-        0,
-        2,
-    )
-    .expect("recalibration");
+    let sets = recalibrated(&with, &biased.params, &[None, Some(step(-300.0))], 0);
     let sigma = params_to_vec(&plain.sigma, ParamModel::States42);
     let base = params_to_vec(&plain.params, ParamModel::States42);
     let moved = params_to_vec(&biased.params, ParamModel::States42);
@@ -195,7 +198,6 @@ fn a_step_in_the_calibration_run_is_recalibrated_away() {
 /// them all. The same scheme without the effect holds none.
 #[test]
 fn the_calibration_innovations_tell_a_cross_coupling_from_a_scale_asymmetry() {
-    use sins_diag::absorb::recalibrate;
     use sins_diag::cal_innovations::innovation_outliers;
     let cal = calibration_scenario();
     let alpha = sins_diag::DiagnoseConfig::default().alpha;
@@ -203,34 +205,14 @@ fn the_calibration_innovations_tell_a_cross_coupling_from_a_scale_asymmetry() {
     let asymmetry = common::effect(EffectKind::GyroScaleAsymmetry, 2, -0.0212);
 
     let plain = calibrate(&cal);
-    let mut src = common::source(&cal);
-    let temps = temperature_series(&mut src, 60).expect("temperatures");
-    let noise = NoiseSpec::from(&cal.noise);
-    let clean = recalibrate(
-        cal_run(&mut src, &cal, &temps),
-        &plain.params,
-        &noise,
-        &[None],
-        1,
-        1,
-    )
-    .expect("recalibration");
+    let clean = recalibrated(&cal, &plain.params, &[None], 1);
     let clean = innovation_outliers(&clean[0].innovations, alpha);
 
     let mut with = cal.clone();
     with.effects.push(coupling(281.0));
     let biased = calibrate(&with);
-    let mut src = common::source(&with);
-    let temps = temperature_series(&mut src, 60).expect("temperatures");
-    let sets = recalibrate(
-        cal_run(&mut src, &with, &temps),
-        &biased.params,
-        &noise,
-        &[None, Some(coupling(-281.0)), Some(asymmetry)],
-        3,
-        2,
-    )
-    .expect("recalibration");
+    let arms = [None, Some(coupling(-281.0)), Some(asymmetry)];
+    let sets = recalibrated(&with, &biased.params, &arms, 3);
     let [recorded, removed, other] =
         [0, 1, 2].map(|i| innovation_outliers(&sets[i].innovations, alpha));
     for (name, o) in [
