@@ -38,11 +38,12 @@
 
 mod batch;
 mod kernel;
+mod lanes;
 mod taps;
 
 use crate::Vec3;
 use crate::mechanization::Increment;
-use batch::{Job, View, Workers, quiet_pair};
+use batch::{Job, Scratch, View, Workers, quiet_pair};
 use std::sync::Arc;
 use taps::Taps;
 
@@ -121,6 +122,8 @@ pub struct IncrementReconstructor {
     workers: Option<Workers>,
     /// Samples pushed when the workers were last asked in vain for results.
     polled_at: usize,
+    /// Buffers of the computation in the caller's thread (one thread).
+    scratch: Scratch,
 }
 
 impl std::fmt::Debug for IncrementReconstructor {
@@ -161,6 +164,7 @@ impl IncrementReconstructor {
             popped: 0,
             workers: None,
             polled_at: 0,
+            scratch: Scratch::default(),
         }
     }
 
@@ -293,7 +297,7 @@ impl IncrementReconstructor {
         };
         self.next = k_end;
         if self.config.threads == 1 {
-            let done = job.compute(&self.taps);
+            let done = job.compute(&self.taps, &mut self.scratch);
             self.absorb(done);
         } else {
             let (threads, taps) = (self.config.threads, &self.taps);

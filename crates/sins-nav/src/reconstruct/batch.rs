@@ -2,8 +2,9 @@
 //! of worker threads that computes owned batches in the background, returning them in order.
 
 use super::Reconstructed;
-use super::kernel::{Product, constant_rate};
-use super::taps::Taps;
+use super::kernel::{Motion, Product, Se3, constant_rate};
+use super::lanes::{LANES, LaneQueue, Run};
+use super::taps::{Taps, is_slow};
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, TryRecvError, channel};
 use std::thread::JoinHandle;
@@ -87,16 +88,86 @@ impl Job {
         }
     }
 
-    /// Compute its updates.
-    pub fn compute(&self, taps: &Taps) -> Vec<Reconstructed> {
+    /// Compute its updates: segment by segment, first the motion of every interval that needs
+    /// one (four at a time, [`LaneQueue`]), then their products per update.
+    pub fn compute(&self, taps: &Taps, scratch: &mut Scratch) -> Vec<Reconstructed> {
         let (v, m) = (self.view(), self.per_update);
         let mut cache = None;
-        (self.k0..self.k_end)
-            .step_by(m)
-            .map(|k| v.update(taps, k, (k + m).min(self.k_end), &mut cache))
-            .collect()
+        let mut queue = LaneQueue::new();
+        let Scratch {
+            cols,
+            motions,
+            need,
+        } = scratch;
+        motions.resize(SEGMENT_UPDATES * m, Motion::single(Se3::default()));
+        let mut quiet = [false; SEGMENT_UPDATES];
+        let mut out = Vec::with_capacity((self.k_end - self.k0).div_ceil(m));
+        for (c, col) in cols.iter_mut().enumerate() {
+            col.clear();
+            col.extend(self.data.iter().map(|x| x[c]));
+        }
+        let cols = cols.each_ref().map(Vec::as_slice);
+        let mut k = self.k0;
+        while k < self.k_end {
+            let end = (k + SEGMENT_UPDATES * m).min(self.k_end);
+            let updates = || (k..end).step_by(m).map(|k0| (k0, (k0 + m).min(end)));
+            need.clear();
+            for (u, (k0, k1)) in updates().enumerate() {
+                quiet[u] = v.quiet_update(taps, k0, k1);
+                if !quiet[u] {
+                    need.extend(k0..k1);
+                }
+            }
+            let mut i = 0;
+            while i < need.len() {
+                // Four consecutive intervals of one shape go to the lanes straight from the
+                // columns; the others through the queue.
+                let first = need[i];
+                if need.get(i + LANES - 1) == Some(&(first + LANES - 1))
+                    && let Some(run) = v.run(taps, first, cols)
+                    && queue.run(&run, motions, first - k)
+                {
+                    i += LANES;
+                    continue;
+                }
+                v.queue_interval(taps, first, &mut queue, motions, first - k);
+                i += 1;
+            }
+            queue.flush(motions);
+            for (u, (k0, k1)) in updates().enumerate() {
+                out.push(match quiet[u] {
+                    true => v.constant_update(k0, k1, &mut cache),
+                    false => {
+                        let mut acc = Product::new();
+                        for motion in &motions[k0 - k..k1 - k] {
+                            acc.apply(motion);
+                        }
+                        let (phi_rad, dv_body_mps) = acc.finish();
+                        Reconstructed {
+                            phi_rad,
+                            dv_body_mps,
+                            intervals: k1 - k0,
+                        }
+                    }
+                });
+            }
+            k = end;
+        }
+        out
     }
 }
+
+/// Buffers that [`Job::compute`] reuses from job to job: the samples as columns, the motions of
+/// a segment's intervals and which intervals need one.
+#[derive(Default)]
+pub(super) struct Scratch {
+    cols: [Vec<f64>; 6],
+    motions: Vec<Motion>,
+    need: Vec<usize>,
+}
+
+/// Updates per segment of [`Job::compute`].
+const SEGMENT_UPDATES: usize = 16;
 
 impl View<'_> {
     /// Stencil `(start, len)` (absolute) of interval `k` for stencils of `width` samples, or
@@ -116,58 +187,91 @@ impl View<'_> {
         (s + n <= self.pushed).then_some((s, n))
     }
 
-    /// The update made of the intervals `k0..k1`. `cache` holds the last quiet update (its
-    /// sample's bits and result), reused for identical quiet updates.
-    fn update(
+    /// Stencil `(start, len)` of interval `k`, which the job holds.
+    fn held_stencil(&self, width: usize, k: usize) -> (usize, usize) {
+        #[allow(
+            clippy::expect_used,
+            reason = "the batch holds every interval from k0 to k1 and its neighbours"
+        )]
+        self.stencil(width, k).expect("computable interval")
+    }
+
+    /// Whether the update made of the intervals `k0..k1` takes the closed form: every stencil
+    /// of it is quiet (constant rate over all of it).
+    fn quiet_update(&self, taps: &Taps, k0: usize, k1: usize) -> bool {
+        if !self.quiet_path {
+            return false;
+        }
+        let (s0, _) = self.held_stencil(taps.width, k0);
+        let (s1, n1) = self.held_stencil(taps.width, k1 - 1);
+        self.run[s1 + n1 - 1 - self.base] as usize >= s1 + n1 - s0 - 1
+    }
+
+    /// The constant-rate update of the quiet intervals `k0..k1`. `cache` holds the last one
+    /// (its sample's bits and result), reused for identical quiet updates.
+    fn constant_update(
         &self,
-        taps: &Taps,
         k0: usize,
         k1: usize,
         cache: &mut Option<([u64; 6], Reconstructed)>,
     ) -> Reconstructed {
         let intervals = k1 - k0;
-        #[allow(
-            clippy::expect_used,
-            reason = "the batch holds every interval from k0 to k1 and its neighbours"
-        )]
-        let stencil = |k| self.stencil(taps.width, k).expect("computable interval");
-        if self.quiet_path {
-            let ((s0, _), (s1, n1)) = (stencil(k0), stencil(k1 - 1));
-            if self.run[s1 + n1 - 1 - self.base] as usize >= s1 + n1 - s0 - 1 {
-                // Every stencil of the update is quiet: constant rate over all of it.
-                let x = &self.data[k0 - self.base];
-                let bits = x.map(f64::to_bits);
-                if let Some((b, r)) = cache
-                    && r.intervals == intervals
-                    && b.iter().zip(&bits).all(|(p, q)| p == q)
-                {
-                    return *r;
-                }
-                let (phi_rad, dv_body_mps) = constant_rate(x, intervals);
-                let r = Reconstructed {
-                    phi_rad,
-                    dv_body_mps,
-                    intervals,
-                };
-                *cache = Some((bits, r));
-                return r;
-            }
+        let x = &self.data[k0 - self.base];
+        let bits = x.map(f64::to_bits);
+        if let Some((b, r)) = cache
+            && r.intervals == intervals
+            && b.iter().zip(&bits).all(|(p, q)| p == q)
+        {
+            return *r;
         }
-        let mut acc = Product::new();
-        for k in k0..k1 {
-            let (s, n) = stencil(k);
-            let (a, b) = (s - self.base, s + n - self.base);
-            if self.quiet_path && self.run[b - 1] as usize >= n - 1 {
-                acc.constant_rate(&self.data[k - self.base]);
-            } else {
-                taps.interval(&self.data[a..b], k - s, &mut acc);
-            }
-        }
-        let (phi_rad, dv_body_mps) = acc.finish();
-        Reconstructed {
+        let (phi_rad, dv_body_mps) = constant_rate(x, intervals);
+        let r = Reconstructed {
             phi_rad,
             dv_body_mps,
             intervals,
+        };
+        *cache = Some((bits, r));
+        r
+    }
+
+    /// The four intervals from `k` as a [`Run`] of the samples' columns `cols` (indexed from
+    /// `base`), if they share one stencil shape and kind (slow or not) and none is quiet.
+    fn run<'a>(&self, taps: &'a Taps, k: usize, cols: [&'a [f64]; 6]) -> Option<Run<'a>> {
+        let (s, n) = self.held_stencil(taps.width, k);
+        let slow = is_slow(&self.data[k - self.base]);
+        for l in 0..LANES {
+            let (sl, nl) = self.held_stencil(taps.width, k + l);
+            let quiet = self.quiet_path && self.run[sl + nl - 1 - self.base] as usize >= nl - 1;
+            if (sl, nl) != (s + l, n) || quiet || is_slow(&self.data[k + l - self.base]) != slow {
+                return None;
+            }
+        }
+        let (taps, substeps) = taps.shape(n, k - s, slow);
+        Some(Run {
+            cols,
+            start: s - self.base,
+            offset: k - s,
+            taps,
+            substeps,
+        })
+    }
+
+    /// The motion of interval `k` into `out[at]`: at once on a quiet stencil, else queued.
+    #[inline(always)]
+    fn queue_interval(
+        &self,
+        taps: &Taps,
+        k: usize,
+        queue: &mut LaneQueue,
+        out: &mut [Motion],
+        at: usize,
+    ) {
+        let (s, n) = self.held_stencil(taps.width, k);
+        let (a, b) = (s - self.base, s + n - self.base);
+        if self.quiet_path && self.run[b - 1] as usize >= n - 1 {
+            out[at] = Motion::single(Se3::from6(&self.data[k - self.base]));
+        } else {
+            queue.push(at, &taps.moments(&self.data[a..b], k - s), out);
         }
     }
 }
@@ -190,8 +294,9 @@ impl Workers {
             let (out_tx, out_rx) = channel();
             let taps = Arc::clone(&taps);
             handles.push(std::thread::spawn(move || {
+                let mut scratch = Scratch::default();
                 for job in job_rx {
-                    if out_tx.send(job.compute(&taps)).is_err() {
+                    if out_tx.send(job.compute(&taps, &mut scratch)).is_err() {
                         break;
                     }
                 }

@@ -75,49 +75,43 @@ pub(super) fn magnus6<L: Lie>(b0: L, b1: L, b2: L) -> L {
 
 /// `Σ c_i xⁱ` by Horner's rule.
 #[inline(always)]
-fn horner(x: f64, c: &[f64]) -> f64 {
+pub(super) fn horner(x: f64, c: &[f64]) -> f64 {
     c.iter().rev().fold(0.0, |acc, &ci| acc * x + ci)
 }
+
+/// Series of `(1 − cos θ)/θ²` in `θ²`; its first four terms below [`JAC_SHORT_BELOW`].
+pub(super) const JAC_A: [f64; 6] = [
+    1.0 / 2.0,
+    -1.0 / 24.0,
+    1.0 / 720.0,
+    -1.0 / 40320.0,
+    1.0 / 3628800.0,
+    -1.0 / 479001600.0,
+];
+/// Series of `(θ − sin θ)/θ³` in `θ²`; its first four terms below [`JAC_SHORT_BELOW`].
+pub(super) const JAC_B: [f64; 6] = [
+    1.0 / 6.0,
+    -1.0 / 120.0,
+    1.0 / 5040.0,
+    -1.0 / 362880.0,
+    1.0 / 39916800.0,
+    -1.0 / 6227020800.0,
+];
+/// `θ²` (rad²) below which four terms of the Jacobian's series suffice (truncation below 1e-19
+/// relative: substeps and single intervals).
+pub(super) const JAC_SHORT_BELOW: f64 = 1e-3;
+/// `θ²` (rad²) below which the Jacobian takes its series (six terms).
+pub(super) const JAC_SERIES_BELOW: f64 = 0.04;
 
 /// `J(φ) ρ` with the left Jacobian `J = I + (1 − cos θ)/θ² [φ×] + (θ − sin θ)/θ³ [φ×]²`: the
 /// translation part of `exp((φ, ρ))`.
 #[inline(always)]
-fn left_jacobian_times(phi: &Vec3, rho: &Vec3) -> Vec3 {
+pub(super) fn left_jacobian_times(phi: &Vec3, rho: &Vec3) -> Vec3 {
     let t2 = phi.norm_squared();
-    let (a, b) = if t2 < 1e-3 {
-        // Taylor series; truncation below 1e-19 relative (substeps and single intervals).
-        (
-            horner(t2, &[1.0 / 2.0, -1.0 / 24.0, 1.0 / 720.0, -1.0 / 40320.0]),
-            horner(
-                t2,
-                &[1.0 / 6.0, -1.0 / 120.0, 1.0 / 5040.0, -1.0 / 362880.0],
-            ),
-        )
-    } else if t2 < 0.04 {
-        (
-            horner(
-                t2,
-                &[
-                    1.0 / 2.0,
-                    -1.0 / 24.0,
-                    1.0 / 720.0,
-                    -1.0 / 40320.0,
-                    1.0 / 3628800.0,
-                    -1.0 / 479001600.0,
-                ],
-            ),
-            horner(
-                t2,
-                &[
-                    1.0 / 6.0,
-                    -1.0 / 120.0,
-                    1.0 / 5040.0,
-                    -1.0 / 362880.0,
-                    1.0 / 39916800.0,
-                    -1.0 / 6227020800.0,
-                ],
-            ),
-        )
+    let (a, b) = if t2 < JAC_SHORT_BELOW {
+        (horner(t2, &JAC_A[..4]), horner(t2, &JAC_B[..4]))
+    } else if t2 < JAC_SERIES_BELOW {
+        (horner(t2, &JAC_A), horner(t2, &JAC_B))
     } else {
         let t = t2.sqrt();
         ((1.0 - t.cos()) / t2, (t - t.sin()) / (t2 * t))
@@ -126,42 +120,38 @@ fn left_jacobian_times(phi: &Vec3, rho: &Vec3) -> Vec3 {
     rho + pr * a + phi.cross(&pr) * b
 }
 
+/// Series of `cos(θ/2)` in `x = θ²/4`; its first four terms below [`EXP_SHORT_BELOW`].
+pub(super) const EXP_C: [f64; 6] = [
+    1.0,
+    -1.0 / 2.0,
+    1.0 / 24.0,
+    -1.0 / 720.0,
+    1.0 / 40320.0,
+    -1.0 / 3628800.0,
+];
+/// Series of `sin(θ/2)/θ` in `x = θ²/4`; its first four terms below [`EXP_SHORT_BELOW`].
+pub(super) const EXP_S: [f64; 6] = [
+    1.0 / 2.0,
+    -1.0 / 12.0,
+    1.0 / 240.0,
+    -1.0 / 10080.0,
+    1.0 / 725760.0,
+    -1.0 / 79833600.0,
+];
+/// `x = θ²/4` below which four terms suffice (truncation below 1e-19, θ < 0.035 rad).
+pub(super) const EXP_SHORT_BELOW: f64 = 3e-4;
+/// `x` below which the exponential takes its series (six terms; truncation below 1e-20,
+/// θ < 0.2 rad).
+pub(super) const EXP_SERIES_BELOW: f64 = 0.01;
+
 /// Unit quaternion of a rotation vector, by series for small angles.
 #[inline(always)]
-fn quat_exp(phi: &Vec3) -> Quat {
+pub(super) fn quat_exp(phi: &Vec3) -> Quat {
     let x = 0.25 * phi.norm_squared();
-    let (c, s) = if x < 3e-4 {
-        // cos(θ/2) and sin(θ/2)/θ in x = θ²/4; truncation below 1e-19 (θ < 0.035 rad).
-        (
-            horner(x, &[1.0, -1.0 / 2.0, 1.0 / 24.0, -1.0 / 720.0]),
-            horner(x, &[1.0 / 2.0, -1.0 / 12.0, 1.0 / 240.0, -1.0 / 10080.0]),
-        )
-    } else if x < 0.01 {
-        // Truncation below 1e-20 (θ < 0.2 rad).
-        (
-            horner(
-                x,
-                &[
-                    1.0,
-                    -1.0 / 2.0,
-                    1.0 / 24.0,
-                    -1.0 / 720.0,
-                    1.0 / 40320.0,
-                    -1.0 / 3628800.0,
-                ],
-            ),
-            horner(
-                x,
-                &[
-                    1.0 / 2.0,
-                    -1.0 / 12.0,
-                    1.0 / 240.0,
-                    -1.0 / 10080.0,
-                    1.0 / 725760.0,
-                    -1.0 / 79833600.0,
-                ],
-            ),
-        )
+    let (c, s) = if x < EXP_SHORT_BELOW {
+        (horner(x, &EXP_C[..4]), horner(x, &EXP_S[..4]))
+    } else if x < EXP_SERIES_BELOW {
+        (horner(x, &EXP_C), horner(x, &EXP_S))
     } else {
         let h = x.sqrt();
         (h.cos(), h.sin() / (2.0 * h))
@@ -200,53 +190,39 @@ fn quat_log(q: &Quat) -> Vec3 {
     v * f
 }
 
-/// A product of SE(3) exponentials `exp(Ω_1) exp(Ω_2) …` (right multiplication): the rotation
-/// `C` and the translation `ΔV` (m/s). A single factor is kept as its exact rotation vector.
+/// The motion over one sample interval, `exp(Ω)` in SE(3), in the form the [`Product`] takes it.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Product {
-    steps: usize,
-    phi: Vec3,
-    q: Quat,
-    dv: Vec3,
+pub(super) struct Motion {
+    /// Rotation vector (rad) of a single-step interval (zero for a split one).
+    pub phi: Vec3,
+    /// The rotation as a quaternion (unit to rounding).
+    pub q: Quat,
+    /// Translation `J(φ) ρ` (m/s).
+    pub dv: Vec3,
+    /// Whether the rotation came from substeps (then only `q` describes it).
+    pub split: bool,
 }
 
-impl Product {
-    /// The identity.
-    pub fn new() -> Self {
+impl Motion {
+    /// `exp(om)` of a single Magnus step (or a constant-rate sample).
+    #[inline(always)]
+    pub fn single(om: Se3) -> Self {
         Self {
-            steps: 0,
-            phi: Vec3::zeros(),
-            q: Quat::identity(),
-            dv: Vec3::zeros(),
+            phi: om.w,
+            q: quat_exp(&om.w),
+            dv: left_jacobian_times(&om.w, &om.v),
+            split: false,
         }
     }
 
-    /// Right-multiply by `exp(om)`.
+    /// The interval of sample `cur` from its substep rotation moments `rot` (rows as in
+    /// `taps::stencil_taps`) and whole-interval velocity moments `vel` (`B_1, B_2`): the
+    /// rotation is the product of the substeps' sixth-order Magnus steps on so(3); the velocity
+    /// increment comes from one sixth-order step on se(3) over the whole interval, whose
+    /// rotation moments are combined from the substep ones (its error, below 1e-3 ug under
+    /// Table 4 pattern 3, is negligible).
     #[inline(always)]
-    pub fn step(&mut self, om: Se3) {
-        let dv = left_jacobian_times(&om.w, &om.v);
-        match self.steps {
-            0 => (self.phi, self.dv) = (om.w, dv),
-            _ => {
-                if self.steps == 1 {
-                    self.q = quat_exp(&self.phi);
-                }
-                self.dv += self.q * dv;
-                // Unit to rounding; normalised once in `finish`.
-                self.q = Quat::new_unchecked(self.q.into_inner() * quat_exp(&om.w).into_inner());
-            }
-        }
-        self.steps += 1;
-    }
-
-    /// Right-multiply by the interval of sample `cur` from its substep rotation moments `rot`
-    /// (rows as in `taps::stencil_taps`) and whole-interval velocity moments `vel` (`B_1, B_2`):
-    /// the rotation is the product of the substeps' sixth-order Magnus steps on so(3); the
-    /// velocity increment comes from one sixth-order step on se(3) over the whole interval,
-    /// whose rotation moments are combined from the substep ones (its error, below 1e-3 ug
-    /// under Table 4 pattern 3, is negligible).
-    #[inline(always)]
-    pub fn split(&mut self, cur: &[f64; 6], rot: &[[f64; 3]], vel: &[[f64; 3]; 2]) {
+    pub fn split(cur: &[f64; 6], rot: &[[f64; 3]], vel: &[[f64; 3]; 2]) -> Self {
         let n = rot.len().div_ceil(3);
         let sigma = 1.0 / n as f64;
         let v3 = |x: &[f64; 3]| Vec3::new(x[0], x[1], x[2]);
@@ -278,29 +254,59 @@ impl Product {
                 v: v3(&vel[1]),
             },
         );
-        self.mul(q, left_jacobian_times(&om.w, &om.v));
-    }
-
-    /// Right-multiply by the motion with rotation `q` and translation `dv`.
-    #[inline(always)]
-    fn mul(&mut self, q: Quat, dv: Vec3) {
-        if self.steps == 0 {
-            (self.q, self.dv) = (q, dv);
-        } else {
-            if self.steps == 1 {
-                self.q = quat_exp(&self.phi);
-            }
-            self.dv += self.q * dv;
-            self.q = Quat::new_unchecked(self.q.into_inner() * q.into_inner());
+        Self {
+            phi: Vec3::zeros(),
+            q,
+            dv: left_jacobian_times(&om.w, &om.v),
+            split: true,
         }
-        // A quaternion now, not a single rotation vector.
-        self.steps = self.steps.max(1) + 1;
+    }
+}
+
+/// A product of SE(3) exponentials `exp(Ω_1) exp(Ω_2) …` (right multiplication): the rotation
+/// `C` and the translation `ΔV` (m/s). A single factor is kept as its exact rotation vector.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Product {
+    steps: usize,
+    phi: Vec3,
+    /// `exp(phi)`, needed once a second factor comes.
+    phi_q: Quat,
+    q: Quat,
+    dv: Vec3,
+}
+
+impl Product {
+    /// The identity.
+    pub fn new() -> Self {
+        Self {
+            steps: 0,
+            phi: Vec3::zeros(),
+            phi_q: Quat::identity(),
+            q: Quat::identity(),
+            dv: Vec3::zeros(),
+        }
     }
 
-    /// Right-multiply by the constant-rate motion of the sample `x`: `exp((Δθ, Δv))`.
+    /// Right-multiply by the motion `m`.
     #[inline(always)]
-    pub fn constant_rate(&mut self, x: &[f64; 6]) {
-        self.step(Se3::from6(x));
+    pub fn apply(&mut self, m: &Motion) {
+        match self.steps {
+            0 if !m.split => (self.phi, self.phi_q, self.dv) = (m.phi, m.q, m.dv),
+            0 => (self.q, self.dv) = (m.q, m.dv),
+            _ => {
+                if self.steps == 1 {
+                    self.q = self.phi_q;
+                }
+                self.dv += self.q * m.dv;
+                // Unit to rounding; normalised once in `finish`.
+                self.q = Quat::new_unchecked(self.q.into_inner() * m.q.into_inner());
+            }
+        }
+        // A split factor is a quaternion at once, not a single rotation vector.
+        self.steps = match m.split {
+            true => self.steps.max(1) + 1,
+            false => self.steps + 1,
+        };
     }
 
     /// The rotation vector (rad) and translation (m/s) of the product.

@@ -1,7 +1,7 @@
 //! Precomputed FIR taps: the Legendre moments of the derivative of the Lagrange interpolant of
 //! the cumulative increments, for every stencil shape, and the per-interval kernel using them.
 
-use super::kernel::{Product, Se3, magnus6};
+use super::kernel::{Motion, Se3, magnus6};
 
 /// Gauss–Legendre nodes and weights on [−1, 1] (Newton iteration on the Legendre polynomial).
 fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
@@ -126,6 +126,13 @@ fn moments<const R: usize, const C0: usize, const C: usize>(
 /// kernel runs at the single-step cost outside the fast vibration peaks.
 pub(super) const SUBSTEP_MIN_ROTATION_RAD: f64 = 0.01;
 
+/// Whether the sample `(Δθ, Δv)` rotates by less than [`SUBSTEP_MIN_ROTATION_RAD`].
+#[inline(always)]
+pub(super) fn is_slow(cur: &[f64; 6]) -> bool {
+    cur[0] * cur[0] + cur[1] * cur[1] + cur[2] * cur[2]
+        < SUBSTEP_MIN_ROTATION_RAD * SUBSTEP_MIN_ROTATION_RAD
+}
+
 /// Taps of every stencil shape: `by_shape[n - 1][offset]`.
 type ShapeTaps = Vec<Vec<Vec<f64>>>;
 
@@ -160,36 +167,90 @@ impl Taps {
         }
     }
 
-    /// Right-multiply `acc` by the motion over the interval whose stencil samples (6-vectors)
-    /// are `w`, current sample `w[offset]`.
-    pub fn interval(&self, w: &[[f64; 6]], offset: usize, acc: &mut Product) {
+    /// The taps and Magnus steps of the stencil of `n` samples with the current one at `offset`,
+    /// for a slow interval (below [`SUBSTEP_MIN_ROTATION_RAD`]) or not.
+    #[inline(always)]
+    pub fn shape(&self, n: usize, offset: usize, slow: bool) -> (&[f64], usize) {
+        match (&self.single, slow) {
+            (Some(single), true) => (&single[n - 1][offset], 1),
+            _ => (&self.by_shape[n - 1][offset], self.substeps),
+        }
+    }
+
+    /// The moments of the interval whose stencil samples (6-vectors) are `w`, current sample
+    /// `w[offset]`: one Magnus step's below [`SUBSTEP_MIN_ROTATION_RAD`], else `substeps`
+    /// steps'.
+    #[inline(always)]
+    pub fn moments(&self, w: &[[f64; 6]], offset: usize) -> Moments {
         let cur = &w[offset];
-        let slow = cur[0] * cur[0] + cur[1] * cur[1] + cur[2] * cur[2]
-            < SUBSTEP_MIN_ROTATION_RAD * SUBSTEP_MIN_ROTATION_RAD;
-        let (t, substeps) = match (&self.single, slow) {
-            (Some(single), true) => (&single[w.len() - 1][offset], 1),
-            _ => (&self.by_shape[w.len() - 1][offset], self.substeps),
+        let (t, substeps) = self.shape(w.len(), offset, is_slow(cur));
+        let split = |rot: &[[f64; 3]], vel: [[f64; 3]; 2]| {
+            let mut m = SplitMoments {
+                cur: *cur,
+                rot: [[0.0; 3]; MAX_ROT_ROWS],
+                rot_rows: rot.len(),
+                vel,
+            };
+            m.rot[..rot.len()].copy_from_slice(rot);
+            Moments::Split(m)
         };
         match substeps {
             1 => {
                 let [b1, b2] = moments::<2, 0, 6>(w, t, 2, 0);
-                acc.step(magnus6(Se3::from6(cur), Se3::from6(&b1), Se3::from6(&b2)));
+                Moments::Single([Se3::from6(cur), Se3::from6(&b1), Se3::from6(&b2)])
             }
-            2 => acc.split(
-                cur,
+            2 => split(
                 &moments::<5, 0, 3>(w, t, 7, 0),
-                &moments::<2, 3, 3>(w, t, 7, 5),
+                moments::<2, 3, 3>(w, t, 7, 5),
             ),
-            3 => acc.split(
-                cur,
+            3 => split(
                 &moments::<8, 0, 3>(w, t, 10, 0),
-                &moments::<2, 3, 3>(w, t, 10, 8),
+                moments::<2, 3, 3>(w, t, 10, 8),
             ),
-            _ => acc.split(
-                cur,
+            _ => split(
                 &moments::<11, 0, 3>(w, t, 13, 0),
-                &moments::<2, 3, 3>(w, t, 13, 11),
+                moments::<2, 3, 3>(w, t, 13, 11),
             ),
+        }
+    }
+}
+
+/// Rotation moment rows of the most substeps (four: `3 · 4 − 1`).
+pub(super) const MAX_ROT_ROWS: usize = 11;
+
+/// The moments of an interval taken in substeps.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SplitMoments {
+    /// The sample `(Δθ, Δv)` (rad, m/s).
+    pub cur: [f64; 6],
+    /// Substep rotation moments, rows as in [`stencil_taps`]; the first `rot_rows` are used.
+    pub rot: [[f64; 3]; MAX_ROT_ROWS],
+    /// Rotation rows in use (`3 · substeps − 1`).
+    pub rot_rows: usize,
+    /// Whole-interval velocity moments `B_1, B_2` (m/s).
+    pub vel: [[f64; 3]; 2],
+}
+
+/// The moments of one interval, as its Magnus steps take them.
+#[derive(Clone, Copy, Debug)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "made and consumed once per interval on the stack; a box would allocate per interval"
+)]
+pub(super) enum Moments {
+    /// One step on se(3): `B_0` (the sample), `B_1`, `B_2`.
+    Single([Se3; 3]),
+    /// Substeps on so(3) and one step on se(3) for the velocity.
+    Split(SplitMoments),
+}
+
+impl Moments {
+    /// The interval's motion (scalar evaluation).
+    #[inline(always)]
+    pub fn motion(&self) -> Motion {
+        match self {
+            Moments::Single([b0, b1, b2]) => Motion::single(magnus6(*b0, *b1, *b2)),
+            Moments::Split(m) => Motion::split(&m.cur, &m.rot[..m.rot_rows], &m.vel),
         }
     }
 }
