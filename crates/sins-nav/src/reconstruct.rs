@@ -34,8 +34,8 @@
 //! Every update is a pure function of its stencils, so the results are bit-identical whatever
 //! the threading. Four intervals at a time are evaluated side by side in the lanes of an AVX2
 //! vector where the CPU has one, each lane doing the scalar code's operations in its order, so
-//! the results are also the same bits whatever the CPU (module `lanes`; it uses pulp's x86-64
-//! token, so this crate builds for x86-64). With `threads > 1`, batches of `batch_len` samples are computed by `threads`
+//! the results are also the same bits whatever the CPU (module `lanes`; other CPUs, and other
+//! architectures, evaluate every interval with the scalar code). With `threads > 1`, batches of `batch_len` samples are computed by `threads`
 //! background workers while the caller keeps pushing (and navigating): the reconstruction
 //! overlaps the rest of the replay. Results are returned in order.
 

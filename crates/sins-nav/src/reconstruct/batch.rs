@@ -123,7 +123,8 @@ impl Job {
                 // Four consecutive intervals of one shape go to the lanes straight from the
                 // columns; the others through the queue.
                 let first = need[i];
-                if need.get(i + LANES - 1) == Some(&(first + LANES - 1))
+                if queue.has_lanes()
+                    && need.get(i + LANES - 1) == Some(&(first + LANES - 1))
                     && let Some(run) = v.run(taps, first, cols)
                     && queue.run(&run, motions, first - k)
                 {
@@ -270,8 +271,10 @@ impl View<'_> {
         let (a, b) = (s - self.base, s + n - self.base);
         if self.quiet_path && self.run[b - 1] as usize >= n - 1 {
             out[at] = Motion::single(Se3::from6(&self.data[k - self.base]));
-        } else {
+        } else if queue.has_lanes() {
             queue.push(at, &taps.moments(&self.data[a..b], k - s), out);
+        } else {
+            out[at] = taps.motion(&self.data[a..b], k - s);
         }
     }
 }

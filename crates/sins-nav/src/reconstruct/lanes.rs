@@ -11,8 +11,11 @@ use super::kernel::{
 };
 use super::taps::{MAX_ROT_ROWS, Moments, SplitMoments};
 use crate::{Quat, Vec3};
+#[cfg(not(target_arch = "x86_64"))]
+use portable::V3;
+use pulp::f64x4;
+#[cfg(target_arch = "x86_64")]
 use pulp::x86::V3;
-use pulp::{Simd, f64x4};
 use std::ops::{Add, Mul, Sub};
 
 /// Intervals per chunk.
@@ -480,7 +483,64 @@ pub(super) struct LaneQueue {
     avx2: Option<V3>,
 }
 
-/// Four intervals to evaluate, for [`Simd::vectorize`] (compiled with AVX2).
+/// Evaluate `e` in code compiled for AVX2 (x86-64).
+#[cfg(target_arch = "x86_64")]
+fn vectorize(e: Eval) -> bool {
+    pulp::Simd::vectorize(e.s, e)
+}
+
+/// Elsewhere the token is never made, so this is never called.
+#[cfg(not(target_arch = "x86_64"))]
+fn vectorize(e: Eval) -> bool {
+    pulp::WithSimd::with_simd(e, pulp::Scalar::new())
+}
+
+/// A stand-in for pulp's x86-64 token where there is none: [`V3::try_new`] always answers
+/// `None`, so every chunk takes the scalar code; the operations exist only so that the lane
+/// code compiles.
+#[cfg(not(target_arch = "x86_64"))]
+mod portable {
+    use pulp::f64x4;
+
+    /// No AVX2 token.
+    #[derive(Clone, Copy, Debug)]
+    pub struct V3;
+
+    impl V3 {
+        pub fn try_new() -> Option<Self> {
+            None
+        }
+        fn map2(a: f64x4, b: f64x4, f: impl Fn(f64, f64) -> f64) -> f64x4 {
+            f64x4(f(a.0, b.0), f(a.1, b.1), f(a.2, b.2), f(a.3, b.3))
+        }
+        pub fn splat_f64x4(self, x: f64) -> f64x4 {
+            f64x4(x, x, x, x)
+        }
+        pub fn add_f64x4(self, a: f64x4, b: f64x4) -> f64x4 {
+            Self::map2(a, b, |x, y| x + y)
+        }
+        pub fn sub_f64x4(self, a: f64x4, b: f64x4) -> f64x4 {
+            Self::map2(a, b, |x, y| x - y)
+        }
+        pub fn mul_f64x4(self, a: f64x4, b: f64x4) -> f64x4 {
+            Self::map2(a, b, |x, y| x * y)
+        }
+        pub fn cmp_lt_f64x4(self, a: f64x4, b: f64x4) -> [bool; 4] {
+            [a.0 < b.0, a.1 < b.1, a.2 < b.2, a.3 < b.3]
+        }
+        pub fn select_f64x4(self, m: [bool; 4], a: f64x4, b: f64x4) -> f64x4 {
+            let p = |m: bool, x: f64, y: f64| if m { x } else { y };
+            f64x4(
+                p(m[0], a.0, b.0),
+                p(m[1], a.1, b.1),
+                p(m[2], a.2, b.2),
+                p(m[3], a.3, b.3),
+            )
+        }
+    }
+}
+
+/// Four intervals to evaluate, in code compiled for AVX2 ([`vectorize`]).
 enum Chunk<'a> {
     /// The queue's full chunk of a kind (`split` or not).
     Queued(&'a LaneQueue, bool),
@@ -590,7 +650,7 @@ impl LaneQueue {
     fn evaluate(&mut self, split: bool, out: &mut [Motion]) {
         let done = self.avx2.is_some_and(|s| {
             let chunk = Chunk::Queued(self, split);
-            Simd::vectorize(s, Eval { chunk, out, s })
+            vectorize(Eval { chunk, out, s })
         });
         if !done {
             self.scalar(split, out);
@@ -601,12 +661,17 @@ impl LaneQueue {
         }
     }
 
+    /// Whether the CPU has AVX2 (else every motion is evaluated by the scalar code).
+    pub fn has_lanes(&self) -> bool {
+        self.avx2.is_some()
+    }
+
     /// Evaluate four consecutive intervals of one shape into `out[at..at + 4]` if the CPU has
     /// AVX2 and they are inside the series' ranges; false (nothing written) otherwise.
     pub fn run(&self, run: &Run, out: &mut [Motion], at: usize) -> bool {
         self.avx2.is_some_and(|s| {
             let chunk = Chunk::Run(run, at);
-            Simd::vectorize(s, Eval { chunk, out, s })
+            vectorize(Eval { chunk, out, s })
         })
     }
 
@@ -738,14 +803,11 @@ mod tests {
                     };
                     let mut out = vec![Motion::single(Se3::default()); LANES];
                     let chunk = Chunk::Run(&run, 0);
-                    let done = Simd::vectorize(
+                    let done = vectorize(Eval {
+                        chunk,
+                        out: &mut out,
                         s,
-                        Eval {
-                            chunk,
-                            out: &mut out,
-                            s,
-                        },
-                    );
+                    });
                     let mut queued = vec![Motion::single(Se3::default()); LANES];
                     let mut queue = LaneQueue::new();
                     for l in 0..LANES {

@@ -182,9 +182,7 @@ impl Taps {
     /// steps'.
     #[inline(always)]
     pub fn moments(&self, w: &[[f64; 6]], offset: usize) -> Moments {
-        let cur = &w[offset];
-        let (t, substeps) = self.shape(w.len(), offset, is_slow(cur));
-        let split = |rot: &[[f64; 3]], vel: [[f64; 3]; 2]| {
+        self.with_moments(w, offset, Moments::Single, |cur, rot, vel| {
             let mut m = SplitMoments {
                 cur: *cur,
                 rot: [[0.0; 3]; MAX_ROT_ROWS],
@@ -193,21 +191,50 @@ impl Taps {
             };
             m.rot[..rot.len()].copy_from_slice(rot);
             Moments::Split(m)
-        };
+        })
+    }
+
+    /// The motion over the interval whose stencil samples are `w`, current sample `w[offset]`
+    /// (scalar evaluation, each substep count compiled on its own).
+    #[inline(always)]
+    pub fn motion(&self, w: &[[f64; 6]], offset: usize) -> Motion {
+        self.with_moments(
+            w,
+            offset,
+            |[b0, b1, b2]| Motion::single(magnus6(b0, b1, b2)),
+            |cur, rot, vel| Motion::split(cur, rot, &vel),
+        )
+    }
+
+    /// The interval's moments handed to `single` (`B_0, B_1, B_2` of one step) or to `split`
+    /// (the sample, the substep rotation rows and the velocity `B_1, B_2`).
+    #[inline(always)]
+    fn with_moments<R>(
+        &self,
+        w: &[[f64; 6]],
+        offset: usize,
+        single: impl FnOnce([Se3; 3]) -> R,
+        split: impl FnOnce(&[f64; 6], &[[f64; 3]], [[f64; 3]; 2]) -> R,
+    ) -> R {
+        let cur = &w[offset];
+        let (t, substeps) = self.shape(w.len(), offset, is_slow(cur));
         match substeps {
             1 => {
                 let [b1, b2] = moments::<2, 0, 6>(w, t, 2, 0);
-                Moments::Single([Se3::from6(cur), Se3::from6(&b1), Se3::from6(&b2)])
+                single([Se3::from6(cur), Se3::from6(&b1), Se3::from6(&b2)])
             }
             2 => split(
+                cur,
                 &moments::<5, 0, 3>(w, t, 7, 0),
                 moments::<2, 3, 3>(w, t, 7, 5),
             ),
             3 => split(
+                cur,
                 &moments::<8, 0, 3>(w, t, 10, 0),
                 moments::<2, 3, 3>(w, t, 10, 8),
             ),
             _ => split(
+                cur,
                 &moments::<11, 0, 3>(w, t, 13, 0),
                 moments::<2, 3, 3>(w, t, 13, 11),
             ),
