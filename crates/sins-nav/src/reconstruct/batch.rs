@@ -135,7 +135,31 @@ impl Job {
                 i += 1;
             }
             queue.flush(motions);
-            for (u, (k0, k1)) in updates().enumerate() {
+            let bounds: Vec<(usize, usize)> = updates().collect();
+            let mut u = 0;
+            while u < bounds.len() {
+                // Four updates of as many intervals each, none quiet: their products side by
+                // side; the others one by one.
+                let group = bounds.get(u..u + LANES).filter(|g| {
+                    let len = g[0].1 - g[0].0;
+                    g.iter().all(|&(a, b)| b - a == len) && !quiet[u..u + LANES].contains(&true)
+                });
+                let lanes = group.and_then(|g| {
+                    let starts = std::array::from_fn(|l| g[l].0 - k);
+                    queue.products(motions, starts, g[0].1 - g[0].0)
+                });
+                if let (Some(g), Some(lanes)) = (group, lanes) {
+                    for (&(k0, k1), (phi_rad, dv_body_mps)) in g.iter().zip(lanes) {
+                        out.push(Reconstructed {
+                            phi_rad,
+                            dv_body_mps,
+                            intervals: k1 - k0,
+                        });
+                    }
+                    u += LANES;
+                    continue;
+                }
+                let (k0, k1) = bounds[u];
                 out.push(match quiet[u] {
                     true => v.constant_update(k0, k1, &mut cache),
                     false => {
@@ -151,6 +175,7 @@ impl Job {
                         }
                     }
                 });
+                u += 1;
             }
             k = end;
         }

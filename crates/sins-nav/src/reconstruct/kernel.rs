@@ -164,25 +164,29 @@ pub(super) fn quat_exp(phi: &Vec3) -> Quat {
     ))
 }
 
+/// Series of `2 asin(s)/s / 2` in `s²`, for angles below 0.2 rad (truncation below 1e-19
+/// relative).
+pub(super) const LOG_C: [f64; 9] = [
+    1.0,
+    1.0 / 6.0,
+    3.0 / 40.0,
+    5.0 / 112.0,
+    35.0 / 1152.0,
+    63.0 / 2816.0,
+    231.0 / 13312.0,
+    143.0 / 10240.0,
+    6435.0 / 557056.0,
+];
+/// `s²` (the squared vector part) below which the logarithm takes its series.
+pub(super) const LOG_SERIES_BELOW: f64 = 0.01;
+
 /// Rotation vector of a unit quaternion with a non-negative scalar part.
 #[inline(always)]
 fn quat_log(q: &Quat) -> Vec3 {
     let (w, v) = (q.w, q.imag());
     let s2 = v.norm_squared();
-    let f = if s2 < 0.01 {
-        // 2 asin(s)/s for angles below 0.2 rad; truncation below 1e-19 relative.
-        let c = [
-            1.0,
-            1.0 / 6.0,
-            3.0 / 40.0,
-            5.0 / 112.0,
-            35.0 / 1152.0,
-            63.0 / 2816.0,
-            231.0 / 13312.0,
-            143.0 / 10240.0,
-            6435.0 / 557056.0,
-        ];
-        2.0 * horner(s2, &c)
+    let f = if s2 < LOG_SERIES_BELOW {
+        2.0 * horner(s2, &LOG_C)
     } else {
         let s = s2.sqrt();
         2.0 * s.atan2(w) / s

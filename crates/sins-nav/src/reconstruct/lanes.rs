@@ -7,7 +7,7 @@
 
 use super::kernel::{
     EXP_C, EXP_S, EXP_SERIES_BELOW, EXP_SHORT_BELOW, JAC_A, JAC_B, JAC_SERIES_BELOW,
-    JAC_SHORT_BELOW, Lie, Motion, Se3, magnus6,
+    JAC_SHORT_BELOW, LOG_C, LOG_SERIES_BELOW, Lie, Motion, Se3, magnus6,
 };
 use super::taps::{MAX_ROT_ROWS, Moments, SplitMoments};
 use crate::{Quat, Vec3};
@@ -272,6 +272,92 @@ impl Q4 {
         }
     }
 
+    /// Lane by lane from four quaternions.
+    #[inline(always)]
+    fn of(s: V3, q: [&Quat; LANES]) -> Q4 {
+        let f = |c: usize| F4 {
+            v: f64x4(
+                q[0].coords[c],
+                q[1].coords[c],
+                q[2].coords[c],
+                q[3].coords[c],
+            ),
+            s,
+        };
+        // nalgebra stores `[i, j, k, w]`.
+        Q4 {
+            i: f(0),
+            j: f(1),
+            k: f(2),
+            w: f(3),
+        }
+    }
+
+    #[inline(always)]
+    fn vector(&self) -> V4 {
+        V4 {
+            x: self.i,
+            y: self.j,
+            z: self.k,
+        }
+    }
+
+    /// nalgebra's `UnitQuaternion * Vector3`, term for term: `t = 2 (q × v)`,
+    /// `t w + q × t + v`.
+    #[inline(always)]
+    fn rotate(&self, v: &V4) -> V4 {
+        let t = self.vector().cross(v) * 2.0;
+        let cross = self.vector().cross(&t);
+        t.scale(self.w) + cross + *v
+    }
+
+    /// nalgebra's `Unit::new_normalize`: each coordinate over the norm, whose square sums the
+    /// coordinates `[i, j, k, w]` as `(i² + k²) + (j² + w²)`.
+    #[inline(always)]
+    fn normalize(&self) -> Q4 {
+        let s = self.w.s;
+        let (a, b) = (
+            self.i * self.i + self.k * self.k,
+            self.j * self.j + self.w * self.w,
+        );
+        let n = F4 {
+            v: s.sqrt_f64x4((a + b).v),
+            s,
+        };
+        let d = |x: F4| F4 {
+            v: s.div_f64x4(x.v, n.v),
+            s,
+        };
+        Q4 {
+            w: d(self.w),
+            i: d(self.i),
+            j: d(self.j),
+            k: d(self.k),
+        }
+    }
+
+    /// [`super::kernel::quat_log`]: the series where `s² < 0.01`, lane by lane the closed form
+    /// elsewhere.
+    #[inline(always)]
+    fn log(&self) -> V4 {
+        let v = self.vector();
+        let s2 = v.norm_squared();
+        let mut f = horner(s2, &LOG_C) * 2.0;
+        if !s2.all_below(LOG_SERIES_BELOW) {
+            let f64x4(a, b, c, d) = f.v;
+            let mut lanes = [a, b, c, d];
+            for (l, fl) in lanes.iter_mut().enumerate() {
+                let s2l = s2.lane(l);
+                if !(s2l < LOG_SERIES_BELOW) {
+                    let sl = s2l.sqrt();
+                    *fl = 2.0 * sl.atan2(self.w.lane(l)) / sl;
+                }
+            }
+            f.v = f64x4(lanes[0], lanes[1], lanes[2], lanes[3]);
+        }
+        v.scale(f)
+    }
+
     #[inline(always)]
     fn lane(&self, l: usize) -> Quat {
         Quat::new_unchecked(nalgebra::Quaternion::new(
@@ -458,6 +544,58 @@ fn run_motions(s: V3, run: &Run, out: &mut [Motion], at: &[usize; LANES]) -> boo
     }
 }
 
+/// The products of four updates' motions, for [`LaneQueue::products`]: lane `l` multiplies
+/// `motions[starts[l]..starts[l] + len]`.
+struct Products<'a> {
+    motions: &'a [Motion],
+    starts: [usize; LANES],
+    len: usize,
+    s: V3,
+}
+
+impl pulp::WithSimd for Products<'_> {
+    type Output = Option<[(Vec3, Vec3); LANES]>;
+
+    /// As [`super::kernel::Product`]: the first factor's rotation (as a quaternion) and
+    /// translation, then `ΔV += q ΔV_i`, `q ← q q_i` per further factor; the rotation vector
+    /// is the first factor's if it is the only one and a single step, else the logarithm of
+    /// the normalised quaternion. `None` when the update is one factor, a single step in some
+    /// lanes and substeps in others.
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
+        let (s, m, st) = (self.s, self.motions, self.starts);
+        let at = |i: usize| [&m[st[0] + i], &m[st[1] + i], &m[st[2] + i], &m[st[3] + i]];
+        let v4 = |v: [&Vec3; LANES]| V4 {
+            x: F4 {
+                v: f64x4(v[0].x, v[1].x, v[2].x, v[3].x),
+                s,
+            },
+            y: F4 {
+                v: f64x4(v[0].y, v[1].y, v[2].y, v[3].y),
+                s,
+            },
+            z: F4 {
+                v: f64x4(v[0].z, v[1].z, v[2].z, v[3].z),
+                s,
+            },
+        };
+        let first = at(0);
+        let mut q = Q4::of(s, first.map(|f| &f.q));
+        let mut dv = v4(first.map(|f| &f.dv));
+        for i in 1..self.len {
+            let mi = at(i);
+            dv = dv + q.rotate(&v4(mi.map(|f| &f.dv)));
+            q = q.mul(&Q4::of(s, mi.map(|f| &f.q)));
+        }
+        let phi = match self.len {
+            1 if first.iter().all(|f| !f.split) => v4(first.map(|f| &f.phi)),
+            1 if first.iter().any(|f| !f.split) => return None,
+            _ => q.normalize().log(),
+        };
+        Some(std::array::from_fn(|l| (phi.lane(l), dv.lane(l))))
+    }
+}
+
 /// One `f64` per lane, as the queue stores them.
 type Lanes = [f64; LANES];
 
@@ -524,6 +662,12 @@ mod portable {
         }
         pub fn mul_f64x4(self, a: f64x4, b: f64x4) -> f64x4 {
             Self::map2(a, b, |x, y| x * y)
+        }
+        pub fn div_f64x4(self, a: f64x4, b: f64x4) -> f64x4 {
+            Self::map2(a, b, |x, y| x / y)
+        }
+        pub fn sqrt_f64x4(self, a: f64x4) -> f64x4 {
+            f64x4(a.0.sqrt(), a.1.sqrt(), a.2.sqrt(), a.3.sqrt())
         }
         pub fn cmp_lt_f64x4(self, a: f64x4, b: f64x4) -> [bool; 4] {
             [a.0 < b.0, a.1 < b.1, a.2 < b.2, a.3 < b.3]
@@ -673,6 +817,28 @@ impl LaneQueue {
             let chunk = Chunk::Run(run, at);
             vectorize(Eval { chunk, out, s })
         })
+    }
+
+    /// The products of four updates' motions (lane `l`: `motions[starts[l]..][..len]`) in code
+    /// compiled for AVX2: `(φ, ΔV)` per update, or `None` (the scalar
+    /// [`super::kernel::Product`] does them then).
+    pub fn products(
+        &self,
+        motions: &[Motion],
+        starts: [usize; LANES],
+        len: usize,
+    ) -> Option<[(Vec3, Vec3); LANES]> {
+        let s = self.avx2?;
+        let p = Products {
+            motions,
+            starts,
+            len,
+            s,
+        };
+        #[cfg(target_arch = "x86_64")]
+        return pulp::Simd::vectorize(s, p);
+        #[cfg(not(target_arch = "x86_64"))]
+        pulp::WithSimd::with_simd(p, pulp::Scalar::new())
     }
 
     /// Evaluate the intervals left in part-filled chunks.
@@ -834,5 +1000,63 @@ mod tests {
         // The widest rotation (0.25 rad per sample) is beyond the Jacobian's series whatever
         // the substeps; everything else runs in the lanes.
         assert_eq!((in_lanes, fell_back), (320, 80));
+    }
+
+    /// Four updates' products in the lanes equal the scalar [`super::super::kernel::Product`]
+    /// to the bit: one to four factors, single steps and substeps, rotations per update from
+    /// 1e-4 rad to 0.6 rad (the logarithm's series and its closed form, lane by lane).
+    #[test]
+    fn the_lane_products_are_the_scalar_products_bit_for_bit() {
+        use super::super::kernel::Product;
+        let Some(_) = V3::try_new() else {
+            eprintln!("this CPU has no AVX2: the lanes are never used");
+            return;
+        };
+        let queue = LaneQueue::new();
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let (mut in_lanes, mut refused) = (0, 0);
+        for len in 1..=4 {
+            for scale in [1e-4, 0.01, 0.06, 0.15] {
+                for trial in 0..25 {
+                    let motions: Vec<Motion> = (0..LANES * len)
+                        .map(|i| {
+                            let r = |rng: &mut Rng| scale * rng.next();
+                            let om = Se3 {
+                                w: Vec3::new(r(&mut rng), r(&mut rng), r(&mut rng)),
+                                v: Vec3::new(0.01 * rng.next(), 0.01 * rng.next(), 0.049),
+                            };
+                            let single = Motion::single(om);
+                            // Every other trial, some factors come from substeps.
+                            match trial % 2 == 1 && i % 3 == 0 {
+                                true => Motion {
+                                    phi: Vec3::zeros(),
+                                    split: true,
+                                    ..single
+                                },
+                                false => single,
+                            }
+                        })
+                        .collect();
+                    let starts = std::array::from_fn(|l| l * len);
+                    let Some(lanes) = queue.products(&motions, starts, len) else {
+                        refused += 1;
+                        continue;
+                    };
+                    in_lanes += 1;
+                    for (l, (phi, dv)) in lanes.iter().enumerate() {
+                        let mut p = Product::new();
+                        for m in &motions[starts[l]..starts[l] + len] {
+                            p.apply(m);
+                        }
+                        let (sphi, sdv) = p.finish();
+                        let b = |v: &Vec3| v.map(f64::to_bits);
+                        assert_eq!((b(phi), b(dv)), (b(&sphi), b(&sdv)), "{len} {scale}");
+                    }
+                }
+            }
+        }
+        // Refused: the one-factor updates that mix single steps and substeps (the 12 odd
+        // trials of each scale with one factor).
+        assert_eq!((in_lanes, refused), (352, 48));
     }
 }
