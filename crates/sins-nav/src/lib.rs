@@ -16,6 +16,7 @@ pub mod error_model;
 pub mod linear;
 pub mod mechanization;
 pub mod reconstruct;
+pub mod simd4;
 
 pub use alignment::{AlignmentConfig, AlignmentError, AlignmentResult, SelfAlignment};
 pub use attitude::{Euler, enu_from_body_euler, ned_from_body_euler};

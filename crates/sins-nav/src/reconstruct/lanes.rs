@@ -10,199 +10,10 @@ use super::kernel::{
     JAC_SHORT_BELOW, LOG_C, LOG_SERIES_BELOW, Lie, Motion, Se3, magnus6,
 };
 use super::taps::{MAX_ROT_ROWS, Moments, SplitMoments};
-use crate::{Quat, Vec3};
-#[cfg(not(target_arch = "x86_64"))]
-use portable::V3;
+use crate::Vec3;
+pub(super) use crate::simd4::LANES;
+use crate::simd4::{F4, Q4, Token as V3, V4, horner, vectorize};
 use pulp::f64x4;
-#[cfg(target_arch = "x86_64")]
-use pulp::x86::V3;
-use std::ops::{Add, Mul, Sub};
-
-/// Intervals per chunk.
-pub(super) const LANES: usize = 4;
-
-/// One `f64` per lane, in an AVX vector; the token proves that the CPU has AVX2.
-#[derive(Clone, Copy, Debug)]
-struct F4 {
-    v: f64x4,
-    s: V3,
-}
-
-impl F4 {
-    #[inline(always)]
-    fn splat(s: V3, x: f64) -> Self {
-        Self {
-            v: s.splat_f64x4(x),
-            s,
-        }
-    }
-
-    #[inline(always)]
-    fn lane(&self, l: usize) -> f64 {
-        let f64x4(a, b, c, d) = self.v;
-        [a, b, c, d][l]
-    }
-
-    /// Whether every lane is below `x` (false for NaN).
-    #[inline(always)]
-    fn all_below(&self, x: f64) -> bool {
-        let f64x4(a, b, c, d) = self.v;
-        a < x && b < x && c < x && d < x
-    }
-
-    /// Lane by lane: `a` where `self < x`, else `b`.
-    #[inline(always)]
-    fn below_select(&self, x: f64, a: F4, b: F4) -> F4 {
-        let s = self.s;
-        let mask = s.cmp_lt_f64x4(self.v, s.splat_f64x4(x));
-        Self {
-            v: s.select_f64x4(mask, a.v, b.v),
-            s,
-        }
-    }
-}
-
-impl Add for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn add(self, o: F4) -> F4 {
-        F4 {
-            v: self.s.add_f64x4(self.v, o.v),
-            s: self.s,
-        }
-    }
-}
-
-impl Sub for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn sub(self, o: F4) -> F4 {
-        F4 {
-            v: self.s.sub_f64x4(self.v, o.v),
-            s: self.s,
-        }
-    }
-}
-
-impl Mul for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn mul(self, o: F4) -> F4 {
-        F4 {
-            v: self.s.mul_f64x4(self.v, o.v),
-            s: self.s,
-        }
-    }
-}
-
-impl Mul<f64> for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn mul(self, a: f64) -> F4 {
-        self * F4::splat(self.s, a)
-    }
-}
-
-/// `Σ c_i xⁱ` by Horner's rule, as [`super::kernel::horner`].
-#[inline(always)]
-fn horner(x: F4, c: &[f64]) -> F4 {
-    c.iter()
-        .rev()
-        .fold(F4::splat(x.s, 0.0), |acc, &ci| acc * x + F4::splat(x.s, ci))
-}
-
-/// A 3-vector per lane.
-#[derive(Clone, Copy, Debug)]
-struct V4 {
-    x: F4,
-    y: F4,
-    z: F4,
-}
-
-impl V4 {
-    /// Rows `x, y, z` of lane-major storage.
-    #[inline(always)]
-    fn of(s: V3, c: &[Lanes]) -> Self {
-        let f = |r: &Lanes| F4 {
-            v: f64x4(r[0], r[1], r[2], r[3]),
-            s,
-        };
-        Self {
-            x: f(&c[0]),
-            y: f(&c[1]),
-            z: f(&c[2]),
-        }
-    }
-
-    #[inline(always)]
-    fn zeros(s: V3) -> Self {
-        let z = F4::splat(s, 0.0);
-        Self { x: z, y: z, z }
-    }
-
-    #[inline(always)]
-    fn lane(&self, l: usize) -> Vec3 {
-        Vec3::new(self.x.lane(l), self.y.lane(l), self.z.lane(l))
-    }
-
-    /// nalgebra's `cross`, term for term.
-    #[inline(always)]
-    fn cross(&self, b: &V4) -> V4 {
-        V4 {
-            x: self.y * b.z - self.z * b.y,
-            y: self.z * b.x - self.x * b.z,
-            z: self.x * b.y - self.y * b.x,
-        }
-    }
-
-    /// nalgebra's `norm_squared` for a 3-vector: `x² + y² + z²`, left to right.
-    #[inline(always)]
-    fn norm_squared(&self) -> F4 {
-        self.x * self.x + self.y * self.y + self.z * self.z
-    }
-
-    /// Each lane's vector times that lane's scalar.
-    #[inline(always)]
-    fn scale(&self, a: F4) -> V4 {
-        V4 {
-            x: self.x * a,
-            y: self.y * a,
-            z: self.z * a,
-        }
-    }
-}
-
-impl Add for V4 {
-    type Output = V4;
-    #[inline(always)]
-    fn add(self, o: V4) -> V4 {
-        V4 {
-            x: self.x + o.x,
-            y: self.y + o.y,
-            z: self.z + o.z,
-        }
-    }
-}
-
-impl Sub for V4 {
-    type Output = V4;
-    #[inline(always)]
-    fn sub(self, o: V4) -> V4 {
-        V4 {
-            x: self.x - o.x,
-            y: self.y - o.y,
-            z: self.z - o.z,
-        }
-    }
-}
-
-impl Mul<f64> for V4 {
-    type Output = V4;
-    #[inline(always)]
-    fn mul(self, a: f64) -> V4 {
-        self.scale(F4::splat(self.x.s, a))
-    }
-}
 
 impl Lie for V4 {
     #[inline(always)]
@@ -250,123 +61,26 @@ impl Se34 {
     }
 }
 
-/// A quaternion per lane (`w + i·x + j·y + k·z`).
-#[derive(Clone, Copy, Debug)]
-struct Q4 {
-    w: F4,
-    i: F4,
-    j: F4,
-    k: F4,
-}
-
-impl Q4 {
-    /// nalgebra's quaternion product, term for term.
-    #[inline(always)]
-    fn mul(&self, r: &Q4) -> Q4 {
-        let s = self;
-        Q4 {
-            w: s.w * r.w - s.i * r.i - s.j * r.j - s.k * r.k,
-            i: s.w * r.i + s.i * r.w + s.j * r.k - s.k * r.j,
-            j: s.w * r.j - s.i * r.k + s.j * r.w + s.k * r.i,
-            k: s.w * r.k + s.i * r.j - s.j * r.i + s.k * r.w,
-        }
-    }
-
-    /// Lane by lane from four quaternions.
-    #[inline(always)]
-    fn of(s: V3, q: [&Quat; LANES]) -> Q4 {
-        let f = |c: usize| F4 {
-            v: f64x4(
-                q[0].coords[c],
-                q[1].coords[c],
-                q[2].coords[c],
-                q[3].coords[c],
-            ),
-            s,
-        };
-        // nalgebra stores `[i, j, k, w]`.
-        Q4 {
-            i: f(0),
-            j: f(1),
-            k: f(2),
-            w: f(3),
-        }
-    }
-
-    #[inline(always)]
-    fn vector(&self) -> V4 {
-        V4 {
-            x: self.i,
-            y: self.j,
-            z: self.k,
-        }
-    }
-
-    /// nalgebra's `UnitQuaternion * Vector3`, term for term: `t = 2 (q × v)`,
-    /// `t w + q × t + v`.
-    #[inline(always)]
-    fn rotate(&self, v: &V4) -> V4 {
-        let t = self.vector().cross(v) * 2.0;
-        let cross = self.vector().cross(&t);
-        t.scale(self.w) + cross + *v
-    }
-
-    /// nalgebra's `Unit::new_normalize`: each coordinate over the norm, whose square sums the
-    /// coordinates `[i, j, k, w]` as `(i² + k²) + (j² + w²)`.
-    #[inline(always)]
-    fn normalize(&self) -> Q4 {
-        let s = self.w.s;
-        let (a, b) = (
-            self.i * self.i + self.k * self.k,
-            self.j * self.j + self.w * self.w,
-        );
-        let n = F4 {
-            v: s.sqrt_f64x4((a + b).v),
-            s,
-        };
-        let d = |x: F4| F4 {
-            v: s.div_f64x4(x.v, n.v),
-            s,
-        };
-        Q4 {
-            w: d(self.w),
-            i: d(self.i),
-            j: d(self.j),
-            k: d(self.k),
-        }
-    }
-
-    /// [`super::kernel::quat_log`]: the series where `s² < 0.01`, lane by lane the closed form
-    /// elsewhere.
-    #[inline(always)]
-    fn log(&self) -> V4 {
-        let v = self.vector();
-        let s2 = v.norm_squared();
-        let mut f = horner(s2, &LOG_C) * 2.0;
-        if !s2.all_below(LOG_SERIES_BELOW) {
-            let f64x4(a, b, c, d) = f.v;
-            let mut lanes = [a, b, c, d];
-            for (l, fl) in lanes.iter_mut().enumerate() {
-                let s2l = s2.lane(l);
-                if !(s2l < LOG_SERIES_BELOW) {
-                    let sl = s2l.sqrt();
-                    *fl = 2.0 * sl.atan2(self.w.lane(l)) / sl;
-                }
+/// [`super::kernel::quat_log`]: the series where `s² < 0.01`, lane by lane the closed form
+/// elsewhere.
+#[inline(always)]
+fn quat_log(q: &Q4) -> V4 {
+    let v = q.vector();
+    let s2 = v.norm_squared();
+    let mut f = horner(s2, &LOG_C) * 2.0;
+    if !s2.all_below(LOG_SERIES_BELOW) {
+        let f64x4(a, b, c, d) = f.v;
+        let mut lanes = [a, b, c, d];
+        for (l, fl) in lanes.iter_mut().enumerate() {
+            let s2l = s2.lane(l);
+            if !(s2l < LOG_SERIES_BELOW) {
+                let sl = s2l.sqrt();
+                *fl = 2.0 * sl.atan2(q.w.lane(l)) / sl;
             }
-            f.v = f64x4(lanes[0], lanes[1], lanes[2], lanes[3]);
         }
-        v.scale(f)
+        f.v = f64x4(lanes[0], lanes[1], lanes[2], lanes[3]);
     }
-
-    #[inline(always)]
-    fn lane(&self, l: usize) -> Quat {
-        Quat::new_unchecked(nalgebra::Quaternion::new(
-            self.w.lane(l),
-            self.i.lane(l),
-            self.j.lane(l),
-            self.k.lane(l),
-        ))
-    }
+    v.scale(f)
 }
 
 /// [`super::kernel::left_jacobian_times`] per lane; `None` when a lane needs the closed form.
@@ -590,7 +304,7 @@ impl pulp::WithSimd for Products<'_> {
         let phi = match self.len {
             1 if first.iter().all(|f| !f.split) => v4(first.map(|f| &f.phi)),
             1 if first.iter().any(|f| !f.split) => return None,
-            _ => q.normalize().log(),
+            _ => quat_log(&q.normalize()),
         };
         Some(std::array::from_fn(|l| (phi.lane(l), dv.lane(l))))
     }
@@ -619,69 +333,6 @@ pub(super) struct LaneQueue {
     rot_rows: usize,
     n_split: usize,
     avx2: Option<V3>,
-}
-
-/// Evaluate `e` in code compiled for AVX2 (x86-64).
-#[cfg(target_arch = "x86_64")]
-fn vectorize(e: Eval) -> bool {
-    pulp::Simd::vectorize(e.s, e)
-}
-
-/// Elsewhere the token is never made, so this is never called.
-#[cfg(not(target_arch = "x86_64"))]
-fn vectorize(e: Eval) -> bool {
-    pulp::WithSimd::with_simd(e, pulp::Scalar::new())
-}
-
-/// A stand-in for pulp's x86-64 token where there is none: [`V3::try_new`] always answers
-/// `None`, so every chunk takes the scalar code; the operations exist only so that the lane
-/// code compiles.
-#[cfg(not(target_arch = "x86_64"))]
-mod portable {
-    use pulp::f64x4;
-
-    /// No AVX2 token.
-    #[derive(Clone, Copy, Debug)]
-    pub struct V3;
-
-    impl V3 {
-        pub fn try_new() -> Option<Self> {
-            None
-        }
-        fn map2(a: f64x4, b: f64x4, f: impl Fn(f64, f64) -> f64) -> f64x4 {
-            f64x4(f(a.0, b.0), f(a.1, b.1), f(a.2, b.2), f(a.3, b.3))
-        }
-        pub fn splat_f64x4(self, x: f64) -> f64x4 {
-            f64x4(x, x, x, x)
-        }
-        pub fn add_f64x4(self, a: f64x4, b: f64x4) -> f64x4 {
-            Self::map2(a, b, |x, y| x + y)
-        }
-        pub fn sub_f64x4(self, a: f64x4, b: f64x4) -> f64x4 {
-            Self::map2(a, b, |x, y| x - y)
-        }
-        pub fn mul_f64x4(self, a: f64x4, b: f64x4) -> f64x4 {
-            Self::map2(a, b, |x, y| x * y)
-        }
-        pub fn div_f64x4(self, a: f64x4, b: f64x4) -> f64x4 {
-            Self::map2(a, b, |x, y| x / y)
-        }
-        pub fn sqrt_f64x4(self, a: f64x4) -> f64x4 {
-            f64x4(a.0.sqrt(), a.1.sqrt(), a.2.sqrt(), a.3.sqrt())
-        }
-        pub fn cmp_lt_f64x4(self, a: f64x4, b: f64x4) -> [bool; 4] {
-            [a.0 < b.0, a.1 < b.1, a.2 < b.2, a.3 < b.3]
-        }
-        pub fn select_f64x4(self, m: [bool; 4], a: f64x4, b: f64x4) -> f64x4 {
-            let p = |m: bool, x: f64, y: f64| if m { x } else { y };
-            f64x4(
-                p(m[0], a.0, b.0),
-                p(m[1], a.1, b.1),
-                p(m[2], a.2, b.2),
-                p(m[3], a.3, b.3),
-            )
-        }
-    }
 }
 
 /// Four intervals to evaluate, in code compiled for AVX2 ([`vectorize`]).
@@ -794,7 +445,7 @@ impl LaneQueue {
     fn evaluate(&mut self, split: bool, out: &mut [Motion]) {
         let done = self.avx2.is_some_and(|s| {
             let chunk = Chunk::Queued(self, split);
-            vectorize(Eval { chunk, out, s })
+            vectorize(s, Eval { chunk, out, s })
         });
         if !done {
             self.scalar(split, out);
@@ -815,7 +466,7 @@ impl LaneQueue {
     pub fn run(&self, run: &Run, out: &mut [Motion], at: usize) -> bool {
         self.avx2.is_some_and(|s| {
             let chunk = Chunk::Run(run, at);
-            vectorize(Eval { chunk, out, s })
+            vectorize(s, Eval { chunk, out, s })
         })
     }
 
@@ -835,10 +486,7 @@ impl LaneQueue {
             len,
             s,
         };
-        #[cfg(target_arch = "x86_64")]
-        return pulp::Simd::vectorize(s, p);
-        #[cfg(not(target_arch = "x86_64"))]
-        pulp::WithSimd::with_simd(p, pulp::Scalar::new())
+        vectorize(s, p)
     }
 
     /// Evaluate the intervals left in part-filled chunks.
@@ -969,11 +617,14 @@ mod tests {
                     };
                     let mut out = vec![Motion::single(Se3::default()); LANES];
                     let chunk = Chunk::Run(&run, 0);
-                    let done = vectorize(Eval {
-                        chunk,
-                        out: &mut out,
+                    let done = vectorize(
                         s,
-                    });
+                        Eval {
+                            chunk,
+                            out: &mut out,
+                            s,
+                        },
+                    );
                     let mut queued = vec![Motion::single(Se3::default()); LANES];
                     let mut queue = LaneQueue::new();
                     for l in 0..LANES {
