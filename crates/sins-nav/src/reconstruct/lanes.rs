@@ -1,9 +1,9 @@
 //! Four intervals side by side: the Magnus steps, exponentials and Jacobians of
-//! [`super::kernel`] evaluated on four independent intervals at once, one per lane of
-//! `[f64; 4]` vectors. Every lane performs the scalar code's operations in the scalar code's
-//! order (separate multiplies and adds, the same association, the same series chosen lane by
-//! lane), so each interval's motion is the scalar one to the bit; a chunk with a lane outside
-//! the series' ranges falls back to the scalar code whole.
+//! `super::kernel`, and the products of four updates' motions, evaluated on four independent
+//! problems at once, one per lane of the AVX2 vectors of `crate::simd4`. Every lane performs the
+//! scalar code's operations in the scalar code's order (separate multiplies and adds, the same
+//! association, the same series chosen lane by lane), so each result is the scalar one to the
+//! bit; a chunk with a lane outside the series' ranges falls back to the scalar code whole.
 
 use super::kernel::{
     EXP_C, EXP_S, EXP_SERIES_BELOW, EXP_SHORT_BELOW, JAC_A, JAC_B, JAC_SERIES_BELOW,
