@@ -134,38 +134,24 @@ impl F4 {
     }
 }
 
-impl Add for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn add(self, o: F4) -> F4 {
-        F4 {
-            v: self.s.add_f64x4(self.v, o.v),
-            s: self.s,
+/// `impl $trait for F4` by the token's lane-by-lane `$op`.
+macro_rules! lane_op {
+    ($trait:ident, $f:ident, $op:ident) => {
+        impl $trait for F4 {
+            type Output = F4;
+            #[inline(always)]
+            fn $f(self, o: F4) -> F4 {
+                F4 {
+                    v: self.s.$op(self.v, o.v),
+                    s: self.s,
+                }
+            }
         }
-    }
+    };
 }
-
-impl Sub for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn sub(self, o: F4) -> F4 {
-        F4 {
-            v: self.s.sub_f64x4(self.v, o.v),
-            s: self.s,
-        }
-    }
-}
-
-impl Mul for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn mul(self, o: F4) -> F4 {
-        F4 {
-            v: self.s.mul_f64x4(self.v, o.v),
-            s: self.s,
-        }
-    }
-}
+lane_op!(Add, add, add_f64x4);
+lane_op!(Sub, sub, sub_f64x4);
+lane_op!(Mul, mul, mul_f64x4);
 
 impl Mul<f64> for F4 {
     type Output = F4;

@@ -135,7 +135,13 @@ impl Job {
                 i += 1;
             }
             queue.flush(motions);
-            let bounds: Vec<(usize, usize)> = updates().collect();
+            let mut bounds = [(0, 0); SEGMENT_UPDATES];
+            let mut n_updates = 0;
+            for (slot, b) in bounds.iter_mut().zip(updates()) {
+                *slot = b;
+                n_updates += 1;
+            }
+            let bounds = &bounds[..n_updates];
             let mut u = 0;
             while u < bounds.len() {
                 // Four updates of as many intervals each, none quiet: their products side by
