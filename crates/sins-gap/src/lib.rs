@@ -16,6 +16,8 @@ mod write;
 pub use error::GapError;
 pub use markdown::render_markdown;
 pub use noise::{identify_datasets, identify_datasets_with};
-pub use run::{DiagnoseRequest, DiagnosisOutcome, diagnose_datasets};
+pub use run::{
+    DiagnoseRequest, DiagnosisOutcome, diagnose_datasets, diagnose_datasets_identifying,
+};
 pub use source::DatasetSource;
 pub use write::write_diagnosis;

@@ -26,8 +26,6 @@ pub struct DiagnoseRequest {
     /// Its full covariance (row-major, eq-8 order, SI) when known (a calibration run in
     /// memory); wins over `param_sigma`.
     pub param_covariance: Option<Vec<f64>>,
-    /// The twin's sensor noise.
-    pub noise: NoiseSpec,
     /// The dataset (by name) the parameter set was calibrated from, when it is among
     /// `datasets`: its recalibration with each candidate added tells how the calibration
     /// absorbed the candidate (see `sins_diag::absorb`).
@@ -64,8 +62,50 @@ pub struct DiagnosisOutcome {
     pub diagnose_s: f64,
 }
 
-/// Replay every dataset and diagnose the gap.
-pub fn diagnose_datasets(req: &DiagnoseRequest) -> Result<DiagnosisOutcome, GapError> {
+/// Replay every dataset and diagnose the gap against a twin with sensor noise `noise`.
+pub fn diagnose_datasets(
+    req: &DiagnoseRequest,
+    noise: NoiseSpec,
+) -> Result<DiagnosisOutcome, GapError> {
+    diagnose_replayed(replay_datasets(req)?, req, noise)
+}
+
+/// [`diagnose_datasets`] with the twin's noise from `identify` (it returns the noise and
+/// whatever else its caller wants, e.g. notes). With two or more worker threads
+/// (`req.config.threads`) it runs on a second thread while the datasets are replayed: the
+/// identification and the replays read the files independently, so the results are those of
+/// running one after the other (the 15 h runs of `bench` take about 5 s to identify and 6 s
+/// to replay, each on less than two cores). An error of `identify` wins over one of the
+/// replays: it is what running the identification first reports.
+pub fn diagnose_datasets_identifying<T: Send, E: Send + From<GapError>>(
+    req: &DiagnoseRequest,
+    identify: impl FnOnce() -> Result<(NoiseSpec, T), E> + Send,
+) -> Result<(DiagnosisOutcome, T), E> {
+    if req.config.threads < 2 {
+        let (noise, extra) = identify()?;
+        return Ok((diagnose_datasets(req, noise)?, extra));
+    }
+    let (identified, replayed) = std::thread::scope(|scope| {
+        let worker = scope.spawn(identify);
+        let replayed = replay_datasets(req);
+        (worker.join(), replayed)
+    });
+    let (noise, extra) = identified.map_err(|_| {
+        GapError::Invalid("the noise identification stopped unexpectedly (a panic)".into())
+    })??;
+    Ok((diagnose_replayed(replayed?, req, noise)?, extra))
+}
+
+/// The datasets replayed: the runs as the diagnosis takes them, what the report says of each,
+/// and the replays' wall time.
+struct Replayed {
+    runs: Vec<RunData>,
+    infos: Vec<RunInfo>,
+    replay_s: f64,
+}
+
+/// Replay every dataset of `req` with its parameter set (the real error tracks).
+fn replay_datasets(req: &DiagnoseRequest) -> Result<Replayed, GapError> {
     if req.datasets.is_empty() {
         return Err(GapError::Invalid("no dataset to diagnose".into()));
     }
@@ -100,21 +140,33 @@ pub fn diagnose_datasets(req: &DiagnoseRequest) -> Result<DiagnosisOutcome, GapE
             twin_mean: None,
         });
     }
-    let replay_s = started.elapsed().as_secs_f64();
-    let mut input = DiagnosisInput {
+    Ok(Replayed {
         runs,
+        infos,
+        replay_s: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// Diagnose the replayed runs against the twin with sensor noise `noise`.
+fn diagnose_replayed(
+    replayed: Replayed,
+    req: &DiagnoseRequest,
+    noise: NoiseSpec,
+) -> Result<DiagnosisOutcome, GapError> {
+    let mut input = DiagnosisInput {
+        runs: replayed.runs,
         params: req.params,
         param_sigma: req.param_sigma,
         param_covariance: req.param_covariance.clone(),
-        noise: req.noise,
+        noise,
         calibration_run: req.calibration_run.clone(),
     };
     let t = Instant::now();
     let diagnosis = diagnose(&mut input, &req.config)?;
     Ok(DiagnosisOutcome {
         diagnosis,
-        runs: infos,
-        replay_s,
+        runs: replayed.infos,
+        replay_s: replayed.replay_s,
         diagnose_s: t.elapsed().as_secs_f64(),
     })
 }

@@ -48,15 +48,19 @@ fn short_nav(effect: Option<EffectSpec>, dir: &Path) -> PathBuf {
     file
 }
 
-fn request(file: PathBuf) -> DiagnoseRequest {
+/// The paper navigation experiment's sensor noise (the twin's).
+fn paper_noise() -> NoiseSpec {
     let exp = sins_config::load_experiment(experiments().join("paper_navigation.toml")).unwrap();
+    NoiseSpec::from(&exp.scenarios[0].noise)
+}
+
+fn request(file: PathBuf) -> DiagnoseRequest {
     let truth = sins_config::load_params(experiments().join("imu/paper_truth.toml")).unwrap();
     DiagnoseRequest {
         datasets: vec![("short".into(), file)],
         params: truth.params,
         param_sigma: None,
         param_covariance: None,
-        noise: NoiseSpec::from(&exp.scenarios[0].noise),
         calibration_run: None,
         config: DiagnoseConfig::default(),
     }
@@ -68,7 +72,7 @@ fn hidden_gyro_temperature_coefficient_is_found_from_the_file() {
     let kind = EffectKind::GyroBiasTemp;
     let magnitude = 10.0 * kind.typical_magnitude(); // deg/h/degC on x
     let spec = EffectSpec::unit(kind, 0).scaled(kind.unit().to_si(magnitude));
-    let o = diagnose_datasets(&request(short_nav(Some(spec), dir.path()))).unwrap();
+    let o = diagnose_datasets(&request(short_nav(Some(spec), dir.path())), paper_noise()).unwrap();
     let by = match &o.diagnosis.verdict {
         Verdict::Explained { by } | Verdict::PartlyExplained { by } => by.clone(),
         v => panic!("expected the effect to be found, got {v:?}"),
@@ -108,7 +112,7 @@ fn hidden_gyro_temperature_coefficient_is_found_from_the_file() {
 #[test]
 fn the_same_run_without_the_effect_shows_no_gap() {
     let dir = tempfile::tempdir().unwrap();
-    let o = diagnose_datasets(&request(short_nav(None, dir.path()))).unwrap();
+    let o = diagnose_datasets(&request(short_nav(None, dir.path())), paper_noise()).unwrap();
     assert_eq!(
         o.diagnosis.verdict,
         Verdict::NoSignificantGap,

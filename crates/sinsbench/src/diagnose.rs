@@ -7,7 +7,9 @@ use anyhow::{Result, anyhow, bail};
 use sins_diag::input::DiagnoseConfig;
 use sins_diag::noise::NoiseSpec;
 use sins_diag::report::{Note, NoteKind};
-use sins_gap::{DiagnoseRequest, diagnose_datasets, write_diagnosis};
+use sins_gap::{
+    DiagnoseRequest, diagnose_datasets, diagnose_datasets_identifying, write_diagnosis,
+};
 use std::path::PathBuf;
 
 /// Arguments of `diagnose`.
@@ -91,40 +93,24 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
         None => None,
     };
     check_runs(&datasets, &set.params, &args.params, &config)?;
-    let (noise, noise_notes, untrusted) = match noise_file {
+    let request = DiagnoseRequest {
+        datasets,
+        params: set.params,
+        param_sigma: set.sigma,
+        param_covariance: None,
+        calibration_run,
+        config,
+    };
+    let (mut outcome, said) = match noise_file {
         Some(table) => {
-            let path = &table.source_path;
-            let what = if table.from_noise_file {
-                "noise file"
-            } else {
-                "[imu.noise] of experiment"
-            };
-            let bound = |v: f64, unit: f64, label: &str| {
-                if v.is_finite() {
-                    format!("{:.3e} {label}", v / unit)
-                } else {
-                    "no finite bound, not fitted".into()
-                }
-            };
-            let walks = match table.unresolved_walk_per_sqrt_s {
-                Some([g, a]) => format!(
-                    "; rate random walks it could not exclude, fitted on the gap within their bounds: gyro {}, accel {}",
-                    bound(g, sins_config::units::DEG_PER_H_PER_SQRT_H, "deg/h/√h"),
-                    bound(a, sins_config::units::UG_PER_SQRT_H, "ug/√h")
-                ),
-                None => String::new(),
-            };
-            (
-                NoiseSpec {
-                    unresolved_walk_per_sqrt_s: table.unresolved_walk_per_sqrt_s,
-                    ..NoiseSpec::from(&table.noise)
-                },
-                vec![Note::new(
-                    NoteKind::NoiseIdentification,
-                    format!("twin noise: the {what} {}{walks}", path.display()),
-                )],
-                table.inconsistent.clone(),
-            )
+            let (noise, notes) = noise_of_file(&table);
+            print_notes(&notes)?;
+            if !quiet {
+                replaying_note(&request, &args);
+            }
+            let outcome = diagnose_datasets(&request, noise)?;
+            let untrusted = table.inconsistent.clone();
+            (outcome, NoiseNotes { notes, untrusted })
         }
         None => {
             if !quiet {
@@ -132,52 +118,17 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
                     "diagnose: no --noise-from: identifying the twin's noise from the stationary segments ({}) of the datasets",
                     args.noise_labels.join(", ")
                 );
+                replaying_note(&request, &args);
             }
-            let id = sins_gap::identify_datasets(&datasets, &args.noise_labels, Some(&set.params))
-                .map_err(|e| match e {
-                    // The identification itself failed (too little still data, ...): a noise
-                    // file is then the way on. Data errors name their file and row already.
-                    sins_gap::GapError::Invalid(_) => anyhow!(
-                        "{e}; no --noise-from was given, so the twin's noise is identified from \
-                         the datasets' still stretches: give --noise-from FILE (a noise.toml of \
-                         `sinsbench noise` on longer still data, or an experiment file with \
-                         [imu.noise]) to use a file instead"
-                    ),
-                    e => anyhow!(e),
-                })?;
-            let line = sins_gap::noise_report::noise_one_line(&id);
-            let mut notes = vec![Note::new(
-                NoteKind::NoiseIdentification,
-                format!(
-                    "twin noise: identified from the data's stationary segments (sinsbench noise): {line}"
-                ),
-            )];
-            notes.extend(id.diagnosis_notes());
-            (id.to_noise_spec(), notes, id.inconsistent.clone())
+            let identified = diagnose_datasets_identifying(&request, || {
+                identify(&request.datasets, &args.noise_labels, &set.params)
+            })?;
+            print_notes(&identified.1.notes)?;
+            identified
         }
     };
-    for n in &noise_notes {
-        say!("{n}")?;
-    }
-    if !quiet {
-        note!(
-            "diagnose: replaying {} run(s) with {} and fitting the catalogue against the twin",
-            datasets.len(),
-            args.params.display()
-        );
-    }
-    let outcome = diagnose_datasets(&DiagnoseRequest {
-        datasets,
-        params: set.params,
-        param_sigma: set.sigma,
-        param_covariance: None,
-        noise,
-        calibration_run,
-        config,
-    })?;
-    let mut outcome = outcome;
-    outcome.diagnosis.notes.splice(0..0, noise_notes);
-    outcome.diagnosis.noise_untrusted = untrusted;
+    outcome.diagnosis.notes.splice(0..0, said.notes);
+    outcome.diagnosis.noise_untrusted = said.untrusted;
     let dir = write_diagnosis(&parent, &name, &outcome)?;
     say!("verdict: {:?}", outcome.diagnosis.verdict)?;
     for r in &outcome.diagnosis.noise_untrusted {
@@ -228,4 +179,91 @@ fn check_runs(
         }
     }
     Ok(())
+}
+
+/// The twin's noise from a noise file (or an experiment's `[imu.noise]`) and the note that says
+/// so.
+fn noise_of_file(table: &sins_config::NoiseTable) -> (NoiseSpec, Vec<Note>) {
+    let path = &table.source_path;
+    let what = if table.from_noise_file {
+        "noise file"
+    } else {
+        "[imu.noise] of experiment"
+    };
+    let bound = |v: f64, unit: f64, label: &str| {
+        if v.is_finite() {
+            format!("{:.3e} {label}", v / unit)
+        } else {
+            "no finite bound, not fitted".into()
+        }
+    };
+    let walks = match table.unresolved_walk_per_sqrt_s {
+        Some([g, a]) => format!(
+            "; rate random walks it could not exclude, fitted on the gap within their bounds: gyro {}, accel {}",
+            bound(g, sins_config::units::DEG_PER_H_PER_SQRT_H, "deg/h/√h"),
+            bound(a, sins_config::units::UG_PER_SQRT_H, "ug/√h")
+        ),
+        None => String::new(),
+    };
+    (
+        NoiseSpec {
+            unresolved_walk_per_sqrt_s: table.unresolved_walk_per_sqrt_s,
+            ..NoiseSpec::from(&table.noise)
+        },
+        vec![Note::new(
+            NoteKind::NoiseIdentification,
+            format!("twin noise: the {what} {}{walks}", path.display()),
+        )],
+    )
+}
+
+/// What the report says of the twin's noise: where it came from, and the reasons it cannot be
+/// trusted (none when it can).
+struct NoiseNotes {
+    notes: Vec<Note>,
+    untrusted: Vec<String>,
+}
+
+/// The twin's noise identified from the stationary segments labelled `labels` of `datasets`
+/// (compensated with `params`), with its notes.
+fn identify(
+    datasets: &[(String, PathBuf)],
+    labels: &[String],
+    params: &sins_imu::ImuErrorParams,
+) -> Result<(NoiseSpec, NoiseNotes)> {
+    let id = sins_gap::identify_datasets(datasets, labels, Some(params)).map_err(|e| match e {
+        // The identification itself failed (too little still data, ...): a noise file is then
+        // the way on. Data errors name their file and row already.
+        sins_gap::GapError::Invalid(_) => anyhow!(
+            "{e}; no --noise-from was given, so the twin's noise is identified from the \
+             datasets' still stretches: give --noise-from FILE (a noise.toml of `sinsbench \
+             noise` on longer still data, or an experiment file with [imu.noise]) to use a \
+             file instead"
+        ),
+        e => anyhow!(e),
+    })?;
+    let line = sins_gap::noise_report::noise_one_line(&id);
+    let mut notes = vec![Note::new(
+        NoteKind::NoiseIdentification,
+        format!(
+            "twin noise: identified from the data's stationary segments (sinsbench noise): {line}"
+        ),
+    )];
+    notes.extend(id.diagnosis_notes());
+    let untrusted = id.inconsistent.clone();
+    Ok((id.to_noise_spec(), NoiseNotes { notes, untrusted }))
+}
+
+/// Print the noise notes, one a line.
+fn print_notes(notes: &[Note]) -> Result<()> {
+    notes.iter().try_for_each(|n| say!("{n}"))
+}
+
+/// The progress line that says what is replayed.
+fn replaying_note(request: &DiagnoseRequest, args: &Args) {
+    note!(
+        "diagnose: replaying {} run(s) with {} and fitting the catalogue against the twin",
+        request.datasets.len(),
+        args.params.display()
+    );
 }

@@ -5,7 +5,7 @@ use super::grade::{Grades, grade, render_grades};
 use super::plan::{CALIBRATION_RUN, CaseAnswer, SuiteShape, draw_cases};
 use super::seal::{SealIndex, open, seal};
 use crate::GapError;
-use crate::run::{DiagnoseRequest, diagnose_datasets};
+use crate::run::{DiagnoseRequest, diagnose_datasets, diagnose_datasets_identifying};
 use sins_config::load_experiment;
 use sins_config::markdown::Table;
 use sins_diag::input::DiagnoseConfig;
@@ -223,23 +223,24 @@ pub fn run_case(
     let generate_s = t.elapsed().as_secs_f64();
     // From here on the diagnosis sees only files and the calibrated parameter set.
     let t = Instant::now();
-    let (noise, noise_notes) = if cfg.identified_noise {
-        let labels = sins_noiseid::NoiseIdConfig::default().labels;
-        let id = crate::identify_datasets(&datasets, &labels, Some(&cal.params))?;
-        (id.to_noise_spec(), id.diagnosis_notes())
-    } else {
-        (noise, Vec::new())
-    };
     let request = DiagnoseRequest {
         datasets,
         params: cal.params,
         param_sigma: Some(cal.sigma),
         param_covariance: Some(cal.param_covariance.clone()),
-        noise,
         calibration_run: Some(CALIBRATION_RUN.to_string()),
         config: cfg.diagnose.clone(),
     };
-    let mut outcome = diagnose_datasets(&request)?;
+    let (mut outcome, noise_notes) = if cfg.identified_noise {
+        let labels = sins_noiseid::NoiseIdConfig::default().labels;
+        let (datasets, params) = (&request.datasets, &cal.params);
+        diagnose_datasets_identifying(&request, || {
+            let id = crate::identify_datasets(datasets, &labels, Some(params))?;
+            Ok::<_, GapError>((id.to_noise_spec(), id.diagnosis_notes()))
+        })?
+    } else {
+        (diagnose_datasets(&request, noise)?, Vec::new())
+    };
     outcome.diagnosis.notes.splice(0..0, noise_notes);
     crate::write_diagnosis(&case_dir, "diagnosis", &outcome)?;
     let timing = CaseTiming {
