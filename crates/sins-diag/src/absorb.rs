@@ -294,11 +294,15 @@ pub fn absorption(
 
 /// Feed a batch to some filters, each with its perturbation added.
 fn feed(arms: &mut [Arm], samples: &[ImuSample], ctxs: &[EffectContext]) -> Result<(), DiagError> {
+    let mut perturbations = Vec::with_capacity(samples.len());
     for arm in arms {
-        for (s, ctx) in samples.iter().zip(ctxs) {
+        match arm.effect.as_mut() {
+            Some(effect) => effect.perturbations(ctxs, &mut perturbations),
+            None => perturbations.clear(),
+        }
+        for (k, s) in samples.iter().enumerate() {
             let mut x = *s;
-            if let Some(effect) = arm.effect.as_mut() {
-                let (p_theta, p_v) = effect.perturbation(ctx);
+            if let Some((p_theta, p_v)) = perturbations.get(k) {
                 x.dtheta_rad += p_theta;
                 x.dv_mps += p_v;
             }

@@ -119,7 +119,7 @@ pub const PARAM_SLOTS: [ParamSlot; 33] = [
 impl ParamSlot {
     /// The scalar multiplying a unit (SI) coefficient in the increment of [`Self::row`].
     #[inline]
-    fn scalar(&self, s: &SampleInputs) -> f64 {
+    pub(crate) fn scalar(&self, s: &SampleInputs) -> f64 {
         let inc = match self.triad {
             Triad::Gyro => &s.dtheta_rad,
             Triad::Accel => &s.dv_mps,
@@ -129,6 +129,27 @@ impl ParamSlot {
             Driver::Increment(j) => inc[j],
             Driver::TempInterval(j) => s.dtemp_degc[j] * s.h_s,
             Driver::TempIncrement(j) => s.dtemp_degc[j] * inc[j],
+        }
+    }
+}
+
+impl ParamSlot {
+    /// [`Self::scalar`] of each of `inputs`, into `out` (cleared first): the same values, the
+    /// driver chosen once.
+    pub(crate) fn scalars(&self, inputs: &[SampleInputs], out: &mut Vec<f64>) {
+        out.clear();
+        let it = inputs.iter();
+        match (self.driver, self.triad) {
+            (Driver::Interval, _) => out.extend(it.map(|s| s.h_s)),
+            (Driver::Increment(j), Triad::Gyro) => out.extend(it.map(|s| s.dtheta_rad[j])),
+            (Driver::Increment(j), Triad::Accel) => out.extend(it.map(|s| s.dv_mps[j])),
+            (Driver::TempInterval(j), _) => out.extend(it.map(|s| s.dtemp_degc[j] * s.h_s)),
+            (Driver::TempIncrement(j), Triad::Gyro) => {
+                out.extend(it.map(|s| s.dtemp_degc[j] * s.dtheta_rad[j]))
+            }
+            (Driver::TempIncrement(j), Triad::Accel) => {
+                out.extend(it.map(|s| s.dtemp_degc[j] * s.dv_mps[j]))
+            }
         }
     }
 }

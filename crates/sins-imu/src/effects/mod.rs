@@ -72,6 +72,14 @@ pub trait ExtraEffect: Send {
         (dtheta, dv)
     }
 
+    /// [`Self::perturbation`] of consecutive samples, one per context in time order, into
+    /// `out` (cleared first; rad, m/s): the same values as calling it sample by sample, with one
+    /// dynamic call per batch instead of one per sample.
+    fn perturbations(&mut self, ctxs: &[EffectContext], out: &mut Vec<(Vec3, Vec3)>) {
+        out.clear();
+        out.extend(ctxs.iter().map(|c| self.perturbation(c)));
+    }
+
     /// Return to the state before the first sample (a no-op for stateless effects), so that a
     /// second pass over the same samples gives the same perturbations.
     fn reset(&mut self) {}

@@ -256,3 +256,33 @@ fn forward_model_adds_the_effect_after_the_paper_terms() {
     assert!((dv.x - 1e-6 * 100.0 * 0.01).abs() < 1e-18);
     assert_eq!(dv.y, 0.0);
 }
+
+#[test]
+fn a_batch_of_perturbations_is_the_samples_one_by_one_to_the_bit() {
+    let ctxs = rich_contexts(300);
+    for k in EffectKind::ALL {
+        for c in 0..k.n_components() {
+            let spec = typical(k, c);
+            let (mut one, mut batch) = (spec.build(&truth()), spec.build(&truth()));
+            let want: Vec<_> = ctxs.iter().map(|x| one.perturbation(x)).collect();
+            // Uneven batches: a stateful effect carries its state from one batch to the next.
+            let mut got = Vec::new();
+            let mut out = vec![(Vec3::repeat(f64::NAN), Vec3::zeros())];
+            for part in ctxs.chunks(77) {
+                batch.perturbations(part, &mut out);
+                assert_eq!(out.len(), part.len(), "{k}");
+                got.extend_from_slice(&out);
+            }
+            let bits = |v: &[(Vec3, Vec3)]| -> Vec<u64> {
+                v.iter()
+                    .flat_map(|(a, b)| a.iter().chain(b.iter()).map(|x| x.to_bits()))
+                    .collect()
+            };
+            assert_eq!(bits(&got), bits(&want), "{k} component {c}");
+            assert!(
+                want.iter().any(|(a, b)| a.norm() + b.norm() > 0.0),
+                "{k} {c}: all zero"
+            );
+        }
+    }
+}
