@@ -74,9 +74,9 @@ pub fn diagnose_datasets(
 /// whatever else its caller wants, e.g. notes). With two or more worker threads
 /// (`req.config.threads`) it runs on a second thread while the datasets are replayed: the
 /// identification and the replays read the files independently, so the results are those of
-/// running one after the other (the 15 h runs of `bench` take about 5 s to identify and 6 s
-/// to replay, each on less than two cores). An error of `identify` wins over one of the
-/// replays: it is what running the identification first reports.
+/// running one after the other, in about the time of the longer of the two. An error of
+/// `identify` wins over one of the replays: it is what running the identification first
+/// reports.
 pub fn diagnose_datasets_identifying<T: Send, E: Send + From<GapError>>(
     req: &DiagnoseRequest,
     identify: impl FnOnce() -> Result<(NoiseSpec, T), E> + Send,
