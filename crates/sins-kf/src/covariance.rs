@@ -127,13 +127,13 @@ impl Covariance {
 
     /// Measurement update with `z = H x + v`, `H` selecting δV and the position errors, and
     /// diagonal measurement variances `r`. Returns the state estimate (the prior is zero: the
-    /// filter runs closed-loop) and the innovation covariance diagonal, or `None` if the
-    /// innovation covariance is not positive definite. Joseph form.
+    /// filter runs closed-loop) and the gain `K` (n x 6), or `None` if the innovation covariance
+    /// is not positive definite. Joseph form.
     pub(crate) fn update(
         &mut self,
         z: &[f64; N_MEAS],
         r: &[f64; N_MEAS],
-    ) -> Option<(Vec<f64>, [f64; N_MEAS])> {
+    ) -> Option<(Vec<f64>, Mat<f64>)> {
         let n = self.n();
         let mut s = SMatrix::<f64, N_MEAS, N_MEAS>::zeros();
         for i in 0..N_MEAS {
@@ -142,7 +142,6 @@ impl Covariance {
             }
             s[(i, i)] += r[i];
         }
-        let s_diag = std::array::from_fn(|i| s[(i, i)]);
         let s_inv = s.cholesky()?.inverse();
         // K = P Hᵀ S⁻¹ (n x 6); P Hᵀ = columns VEL..VEL+6 of P.
         let pht = self.p.as_ref().submatrix(0, VEL, n, N_MEAS).to_owned();
@@ -171,7 +170,7 @@ impl Covariance {
             }
         }
         self.p = a;
-        Some((x, s_diag))
+        Some((x, k))
     }
 }
 

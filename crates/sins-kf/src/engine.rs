@@ -45,6 +45,20 @@ pub(crate) struct UpdateOutcome {
     pub(crate) dparams: Vec<f64>,
     /// True when the innovation exceeded the gate and the measurement was not used.
     pub(crate) rejected: bool,
+    /// The gain this update applied, for the filters that follow this one (`None` for a
+    /// following filter).
+    pub(crate) gain: Option<SharedGain>,
+}
+
+/// One measurement update's gain, handed by a leading filter to the filters that follow it
+/// (see [`crate::CalibrationFilter::leading`]): `K` (states x 6 measurements, row-major) and the
+/// predicted variances of the north and east velocity innovations (m²/s²).
+#[derive(Clone, Debug)]
+pub struct SharedGain {
+    /// `K`, row-major, `None` when the leader rejected the update (innovation gate).
+    pub(crate) k: Option<Vec<f64>>,
+    /// Predicted variances of the north and east velocity innovations (m²/s²).
+    pub(crate) s_h: [f64; 2],
 }
 
 /// One modelled bias-wander triad.
@@ -77,6 +91,8 @@ pub(crate) struct Engine {
     qa: f64,
     site: Geodetic,
     pub(crate) updates: usize,
+    /// Samples since the last update, counted by a following engine (which keeps no sums).
+    led_count: usize,
 }
 
 /// `exp([a×])` to second order (|a| ≤ a few mrad per sample).
@@ -148,6 +164,7 @@ impl Engine {
             qa: cfg.noise.accel_vrw_mps_per_sqrt_s.powi(2) + VRW_FLOOR_MPS_PER_SQRT_S.powi(2),
             site: cfg.site,
             updates: 0,
+            led_count: 0,
         }
     }
 
@@ -168,13 +185,46 @@ impl Engine {
     /// interval is complete (call [`Engine::update`] then).
     #[inline]
     pub(crate) fn push(&mut self, dtheta: Vec3, dv: Vec3, dtemp: [f64; 3]) -> bool {
+        if !self.pend(dtheta, dv, dtemp) {
+            return false;
+        }
+        let [(th1, v1, t1), (th2, v2, t2)] = self.pending;
+        let c1 = self.c_start * small_rotation(&(0.5 * th1));
+        let c2 = self.c_start * small_rotation(&(th1 + 0.5 * th2));
+        self.sums.add(&c1, &th1, &v1, &t1);
+        self.sums.add(&c2, &th2, &v2, &t2);
+        self.c_start = self
+            .nav
+            .state()
+            .ned_from_body
+            .to_rotation_matrix()
+            .into_inner();
+        self.sums.count() >= self.samples_per_update
+    }
+
+    /// A following engine's [`Engine::push`]: the navigation only, no transition sums (the
+    /// leader's gains stand for its covariance); true when an update interval is complete (call
+    /// [`Engine::update_led`] then).
+    #[inline]
+    pub(crate) fn push_led(&mut self, dtheta: Vec3, dv: Vec3) -> bool {
+        if !self.pend(dtheta, dv, [0.0; 3]) {
+            return false;
+        }
+        self.led_count += 2;
+        self.led_count >= self.samples_per_update
+    }
+
+    /// Hold a sample; with the second of a pair, advance the navigation over the pair and
+    /// return true.
+    #[inline]
+    fn pend(&mut self, dtheta: Vec3, dv: Vec3, dtemp: [f64; 3]) -> bool {
         self.pending[self.n_pending] = (dtheta, dv, dtemp);
         self.n_pending += 1;
         if self.n_pending < 2 {
             return false;
         }
         self.n_pending = 0;
-        let [(th1, v1, t1), (th2, v2, t2)] = self.pending;
+        let [(th1, v1, _), (th2, v2, _)] = self.pending;
         let pair = [
             Increment {
                 dtheta_rad: th1,
@@ -187,17 +237,7 @@ impl Engine {
         ];
         let (phi, dv_body) = compensated_increments(ConingOrder::TwoSample, &pair, None);
         self.nav.advance_interval(&phi, &dv_body, 2.0 * self.h);
-        let c1 = self.c_start * small_rotation(&(0.5 * th1));
-        let c2 = self.c_start * small_rotation(&(th1 + 0.5 * th2));
-        self.sums.add(&c1, &th1, &v1, &t1);
-        self.sums.add(&c2, &th2, &v2, &t2);
-        self.c_start = self
-            .nav
-            .state()
-            .ned_from_body
-            .to_rotation_matrix()
-            .into_inner();
-        self.sums.count() >= self.samples_per_update
+        true
     }
 
     /// `Φ_np` for all non-navigation states: the coefficient block, then the wander columns
@@ -234,42 +274,94 @@ impl Engine {
         self.cov
             .propagate(&phi_nn, &phi_np, &q_nn, &self.decay, &self.q_params);
         self.sums.clear();
-        for w in &mut self.wander {
-            w.estimate *= w.decay;
-        }
-        let v = st.vel_ned_mps;
-        let z = [
-            v.x,
-            v.y,
-            v.z,
-            pos.lat_rad - self.site.lat_rad,
-            pos.lon_rad - self.site.lon_rad,
-            pos.height_m - self.site.height_m,
-        ];
         let s_h = [
             self.cov.variance(VEL) + self.r[0],
             self.cov.variance(VEL + 1) + self.r[1],
         ];
-        let innovation = v.x.hypot(v.y);
-        let nis = v.x * v.x / s_h[0] + v.y * v.y / s_h[1];
-        let standardized = [v.x / s_h[0].sqrt(), v.y / s_h[1].sqrt()];
-        if innovation > gate_mps {
-            return Ok(UpdateOutcome {
-                t_s: st.t_s,
-                horizontal_innovation_mps: innovation,
-                horizontal_nis: nis,
-                standardized,
-                dparams: vec![0.0; self.n_params],
-                rejected: true,
-            });
+        let z = self.innovation();
+        if z[0].hypot(z[1]) > gate_mps {
+            let mut out = self.outcome(&z, s_h, None);
+            out.gain = Some(SharedGain { k: None, s_h });
+            return Ok(out);
         }
-        let (x, _) = self
+        let (x, k) = self
             .cov
             .update(&z, &self.r)
             .ok_or("innovation covariance")?;
         if !(x.iter().all(|v| v.is_finite()) && self.cov.is_healthy()) {
             return Err("non-finite state or covariance");
         }
+        let k = (0..k.nrows())
+            .flat_map(|i| (0..N_MEAS).map(move |j| (i, j)))
+            .map(|(i, j)| k[(i, j)])
+            .collect();
+        let mut out = self.outcome(&z, s_h, Some(&x));
+        out.gain = Some(SharedGain { k: Some(k), s_h });
+        Ok(out)
+    }
+
+    /// A following engine's [`Engine::update`]: the leader's `gain` applied to this engine's own
+    /// innovation, no covariance of its own. The update is rejected when the innovation exceeds
+    /// `gate_mps` or the leader rejected its own (then it has no gain to give).
+    pub(crate) fn update_led(
+        &mut self,
+        gain: &SharedGain,
+        gate_mps: f64,
+    ) -> Result<UpdateOutcome, &'static str> {
+        self.led_count = 0;
+        let z = self.innovation();
+        let Some(k) = gain.k.as_ref().filter(|_| z[0].hypot(z[1]) <= gate_mps) else {
+            return Ok(self.outcome(&z, gain.s_h, None));
+        };
+        let n = self.cov.n();
+        if k.len() != n * N_MEAS {
+            return Err("the leader's gain has another number of states");
+        }
+        let x: Vec<f64> = k
+            .chunks_exact(N_MEAS)
+            .map(|row| row.iter().zip(&z).map(|(a, b)| a * b).sum())
+            .collect();
+        if !x.iter().all(|v| v.is_finite()) {
+            return Err("non-finite state");
+        }
+        Ok(self.outcome(&z, gain.s_h, Some(&x)))
+    }
+
+    /// The measurement of eqs (9)-(11) at the end of an interval (velocity, then latitude,
+    /// longitude and height against the site), after the wander estimates decayed over it.
+    fn innovation(&mut self) -> [f64; N_MEAS] {
+        for w in &mut self.wander {
+            w.estimate *= w.decay;
+        }
+        let st = self.nav.state();
+        let (v, pos) = (st.vel_ned_mps, st.position);
+        [
+            v.x,
+            v.y,
+            v.z,
+            pos.lat_rad - self.site.lat_rad,
+            pos.lon_rad - self.site.lon_rad,
+            pos.height_m - self.site.height_m,
+        ]
+    }
+
+    /// Apply the state estimate `x` (none: the update was rejected), feeding the navigation
+    /// errors back into the strapdown solution, and describe the update.
+    fn outcome(&mut self, z: &[f64; N_MEAS], s_h: [f64; 2], x: Option<&[f64]>) -> UpdateOutcome {
+        let t_s = self.nav.state().t_s;
+        let nis = z[0] * z[0] / s_h[0] + z[1] * z[1] / s_h[1];
+        let mut out = UpdateOutcome {
+            t_s,
+            horizontal_innovation_mps: z[0].hypot(z[1]),
+            horizontal_nis: nis,
+            standardized: [z[0] / s_h[0].sqrt(), z[1] / s_h[1].sqrt()],
+            dparams: vec![0.0; self.n_params],
+            rejected: x.is_none(),
+            gain: None,
+        };
+        let Some(x) = x else {
+            return out;
+        };
         let phi = Vec3::new(x[0], x[1], x[2]);
         let dvel = Vec3::new(x[VEL], x[VEL + 1], x[VEL + 2]);
         let dpos = Geodetic {
@@ -290,14 +382,8 @@ impl Engine {
             w.estimate += Vec3::new(x[i], x[i + 1], x[i + 2]);
         }
         self.updates += 1;
-        Ok(UpdateOutcome {
-            t_s: st.t_s,
-            horizontal_innovation_mps: innovation,
-            horizontal_nis: nis,
-            standardized,
-            rejected: false,
-            dparams: x[NAV_STATES..first_wander].to_vec(),
-        })
+        out.dparams = x[NAV_STATES..first_wander].to_vec();
+        out
     }
 
     /// Length of one update interval (s).

@@ -11,7 +11,7 @@
 //! 9 deg/s. The covariance is unaffected by the resets (the estimate moves, not the error).
 
 use crate::config::CalibrationConfig;
-use crate::engine::Engine;
+use crate::engine::{Engine, SharedGain};
 use crate::error::CalibrationError;
 use crate::report::{CalibrationResult, ObservabilityReport, Snapshot, StandardizedInnovation};
 use crate::states::{NAV_STATES, params_from_vec, params_to_vec};
@@ -39,6 +39,15 @@ pub struct CalibrationFilter {
     max_nis: f64,
     /// Every update's standardized innovation, when kept.
     innovations: Option<Vec<StandardizedInnovation>>,
+    role: Role,
+}
+
+/// Whether a filter keeps its own covariance, hands its gains on, or applies another's.
+enum Role {
+    Alone,
+    /// The gains of the updates since the last [`CalibrationFilter::take_gains`].
+    Leading(Vec<SharedGain>),
+    Following,
 }
 
 enum Phase {
@@ -97,6 +106,7 @@ impl CalibrationFilter {
             max_innovation_mps: 0.0,
             max_nis: 0.0,
             innovations: None,
+            role: Role::Alone,
         })
     }
 
@@ -105,6 +115,66 @@ impl CalibrationFilter {
     pub fn keep_innovations(mut self) -> Self {
         self.innovations = Some(Vec::new());
         self
+    }
+
+    /// Hand this filter's gains on (see [`CalibrationFilter::take_gains`]) to filters that
+    /// follow it over the same run with slightly different samples (the diagnosis's absorption:
+    /// the run once per small perturbation). Its own results are unchanged.
+    pub fn leading(mut self) -> Self {
+        self.role = Role::Leading(Vec::new());
+        self
+    }
+
+    /// Keep no covariance: apply, at each update, the gain of a leading filter fed with the same
+    /// run (see [`CalibrationFilter::push_led`]) to this filter's own innovation; an update the
+    /// leader rejected, or whose innovation exceeds the gate, is rejected. Each update then
+    /// costs a product with the innovation instead of a propagation and a Joseph update, and
+    /// each sample skips the transition sums (about half a filter's work). The estimate differs
+    /// from that of a filter with its own covariance by the gains' difference (first order in
+    /// the difference of the two filters' samples) times the innovations: small for small
+    /// perturbations of a run the leader fits well, but a perturbation that changes the gains
+    /// much (a time offset under rotation) needs a filter of its own.
+    pub fn following(mut self) -> Self {
+        self.role = Role::Following;
+        self
+    }
+
+    /// A leading filter's gains since the last call, one per update, in order (empty for other
+    /// filters).
+    pub fn take_gains(&mut self) -> Vec<SharedGain> {
+        match &mut self.role {
+            Role::Leading(gains) => std::mem::take(gains),
+            _ => Vec::new(),
+        }
+    }
+
+    /// [`CalibrationFilter::push`] for a following filter: an update takes the next of the
+    /// leader's `gains` (its [`CalibrationFilter::take_gains`] over the same samples).
+    pub fn push_led(
+        &mut self,
+        s: &ImuSample,
+        gains: &mut std::slice::Iter<'_, SharedGain>,
+    ) -> Result<(), CalibrationError> {
+        self.check_sample(s)?;
+        let h = self.h;
+        let dtheta = self.compensator.dtheta_rad(&s.dtheta_rad, h);
+        let dv = self.compensator.dv_mps(&s.dv_mps, h, &s.temp_degc);
+        let Phase::Calibrating(engine) = &mut self.phase else {
+            return self.align(s, dtheta, dv);
+        };
+        if !engine.push_led(dtheta, dv) {
+            return Ok(());
+        }
+        let t_s = engine.nav.state().t_s;
+        let gain = gains.next().ok_or(CalibrationError::Diverged {
+            t_s,
+            reason: "the leading filter made fewer updates",
+        })?;
+        let gate_mps = self.config.motion_check.max_horizontal_innovation_mps;
+        let out = engine
+            .update_led(gain, gate_mps)
+            .map_err(|reason| CalibrationError::Diverged { t_s, reason })?;
+        self.apply(out)
     }
 
     /// The current estimate of the constant coefficients.
@@ -200,17 +270,34 @@ impl CalibrationFilter {
         Ok(())
     }
 
-    /// One measurement update of the engine, the motion check, the coefficient feedback into
-    /// the compensation and the history.
+    /// One measurement update of the engine, then [`CalibrationFilter::apply`].
     fn update(&mut self) -> Result<(), CalibrationError> {
         let Phase::Calibrating(engine) = &mut self.phase else {
             return Ok(());
         };
         let t_s = engine.nav.state().t_s;
+        if let Role::Following = self.role {
+            return Err(CalibrationError::Diverged {
+                t_s,
+                reason: "a following filter needs its leader's gains (push_led)",
+            });
+        }
         let mc = self.config.motion_check;
-        let out = engine
+        let mut out = engine
             .update(mc.max_horizontal_innovation_mps)
             .map_err(|reason| CalibrationError::Diverged { t_s, reason })?;
+        if let (Role::Leading(gains), Some(gain)) = (&mut self.role, out.gain.take()) {
+            gains.push(gain);
+        }
+        self.apply(out)
+    }
+
+    /// An update's motion check, coefficient feedback into the compensation and history.
+    fn apply(&mut self, out: crate::engine::UpdateOutcome) -> Result<(), CalibrationError> {
+        let Phase::Calibrating(engine) = &mut self.phase else {
+            return Ok(());
+        };
+        let mc = self.config.motion_check;
         self.max_innovation_mps = self.max_innovation_mps.max(out.horizontal_innovation_mps);
         self.max_nis = self.max_nis.max(out.horizontal_nis);
         if let Some(kept) = self.innovations.as_mut() {
@@ -246,7 +333,8 @@ impl CalibrationFilter {
             t_s: out.t_s,
             reason: "estimate not invertible",
         })?;
-        if engine.updates % self.updates_per_snapshot == 0 {
+        let following = matches!(self.role, Role::Following);
+        if !following && engine.updates % self.updates_per_snapshot == 0 {
             self.history.push(Snapshot {
                 t_s: out.t_s,
                 estimate: self.estimate.clone(),
@@ -256,18 +344,37 @@ impl CalibrationFilter {
         Ok(())
     }
 
-    /// End the run: the estimate, its 1-sigma, the history and the observability report.
-    pub fn finish(mut self) -> Result<CalibrationResult, CalibrationError> {
+    /// End a following filter's run: its estimate (a following filter keeps no covariance, so
+    /// no 1-sigma, history or observability report).
+    pub fn finish_led(self) -> Result<ImuErrorParams, CalibrationError> {
+        self.engine_with_updates()?;
+        Ok(self.estimate())
+    }
+
+    /// The engine, once it has made an update.
+    fn engine_with_updates(&self) -> Result<&Engine, CalibrationError> {
         let got_s = self.last_t_s.map_or(0.0, |t| t - self.first_t_s);
         let needed_s = self.config.alignment.duration_s + self.config.update_interval_s;
-        let Phase::Calibrating(engine) = &self.phase else {
-            return Err(CalibrationError::TooShort { got_s, needed_s });
-        };
-        if engine.updates == 0 {
-            return Err(CalibrationError::TooShort { got_s, needed_s });
+        match &self.phase {
+            Phase::Calibrating(engine) if engine.updates > 0 => Ok(engine),
+            _ => Err(CalibrationError::TooShort { got_s, needed_s }),
         }
-        let sigma = engine.sigmas();
-        let t_end = engine.nav.state().t_s;
+    }
+
+    /// End the run: the estimate, its 1-sigma, the history and the observability report (a
+    /// following filter: see [`CalibrationFilter::finish_led`]).
+    pub fn finish(mut self) -> Result<CalibrationResult, CalibrationError> {
+        let engine = self.engine_with_updates()?;
+        if let Role::Following = self.role {
+            return Err(CalibrationError::Config {
+                field: "following",
+                reason: "a following filter keeps no covariance; take its estimate with finish_led"
+                    .into(),
+            });
+        }
+        let (sigma, t_end) = (engine.sigmas(), engine.nav.state().t_s);
+        let (alignment, updates) = (engine.alignment, engine.updates);
+        let param_covariance = engine.param_covariance();
         if self.history.last().is_none_or(|s| s.t_s < t_end) {
             self.history.push(Snapshot {
                 t_s: t_end,
@@ -277,11 +384,10 @@ impl CalibrationFilter {
         }
         let model = self.config.model;
         let reference = self.initial_params.reference_temperature_degc;
-        let alignment = engine.alignment;
         Ok(CalibrationResult {
             params: self.estimate(),
             sigma: params_from_vec(&sigma[NAV_STATES..], model, reference),
-            param_covariance: engine.param_covariance(),
+            param_covariance,
             initial_params: self.initial_params,
             initial_sigma: params_from_vec(&self.initial_sigma[NAV_STATES..], model, reference),
             observability: ObservabilityReport::new(
@@ -292,7 +398,7 @@ impl CalibrationFilter {
             alignment,
             filter_start_s: alignment.state.t_s,
             filter_end_s: t_end,
-            updates: engine.updates,
+            updates,
             max_innovation_mps: self.max_innovation_mps,
             max_normalized_innovation: self.max_nis,
             innovations: self.innovations.unwrap_or_default(),

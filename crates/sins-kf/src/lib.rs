@@ -16,6 +16,11 @@
 //! - **Noise**: white gyro/accelerometer noise into φ/δV; bias instability as Gauss-Markov
 //!   nuisance states beside eq (8) ([`FilterNoise`]); a tiny numerical floor
 //!   ([`ARW_FLOOR_RAD_PER_SQRT_S`]) keeps noise-free runs regular.
+//! - **Followers** ([`CalibrationFilter::following`]): filters fed the same run with small
+//!   perturbations (the diagnosis's finite differences) can apply a leading filter's gains to
+//!   their own innovations instead of keeping 42-state covariances; their estimates differ from
+//!   their own filters' by the gains' difference (first order in the perturbation) times the
+//!   innovations.
 //! - **Navigation**: free vertical channel, two-sample increments with the second-order
 //!   rotation term (`sins_nav::mechanization`), which removes a 0.02 ppm scale-factor bias the classical
 //!   algorithm leaves under the scheme's turns.
@@ -34,7 +39,7 @@ pub mod report;
 pub mod states;
 
 pub use config::{CalibrationConfig, FilterNoise, InitialSigmas, MeasurementNoise, MotionCheck};
-pub use engine::{ARW_FLOOR_RAD_PER_SQRT_S, VRW_FLOOR_MPS_PER_SQRT_S};
+pub use engine::{ARW_FLOOR_RAD_PER_SQRT_S, SharedGain, VRW_FLOOR_MPS_PER_SQRT_S};
 pub use error::CalibrationError;
 pub use filter::CalibrationFilter;
 pub use report::{

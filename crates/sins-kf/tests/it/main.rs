@@ -4,6 +4,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is its failure message
 
 mod common;
+mod leading;
 mod paper_noise_free;
 mod paper_noisy;
 mod refuse;
