@@ -45,8 +45,8 @@ pub(crate) struct UpdateOutcome {
     pub(crate) dparams: Vec<f64>,
     /// True when the innovation exceeded the gate and the measurement was not used.
     pub(crate) rejected: bool,
-    /// The gain this update applied, for the filters that follow this one (`None` for a
-    /// following filter).
+    /// The gain this update applied, for the filters that follow this one (`None` unless
+    /// asked for).
     pub(crate) gain: Option<SharedGain>,
 }
 
@@ -261,8 +261,13 @@ impl Engine {
     /// Propagate over the completed interval, update with velocity and position, feed the
     /// navigation errors back into the strapdown solution and return the rest. A horizontal
     /// velocity innovation above `gate_mps` is not used (innovation gating): motion of the IMU
-    /// must not be absorbed into attitude and coefficients.
-    pub(crate) fn update(&mut self, gate_mps: f64) -> Result<UpdateOutcome, &'static str> {
+    /// must not be absorbed into attitude and coefficients. With `share`, the outcome carries the
+    /// gain for following filters.
+    pub(crate) fn update(
+        &mut self,
+        gate_mps: f64,
+        share: bool,
+    ) -> Result<UpdateOutcome, &'static str> {
         let t = self.samples_per_update as f64 * self.h;
         let st = *self.nav.state();
         let pos = st.position;
@@ -281,7 +286,7 @@ impl Engine {
         let z = self.innovation();
         if z[0].hypot(z[1]) > gate_mps {
             let mut out = self.outcome(&z, s_h, None);
-            out.gain = Some(SharedGain { k: None, s_h });
+            out.gain = share.then_some(SharedGain { k: None, s_h });
             return Ok(out);
         }
         let (x, k) = self
@@ -291,12 +296,16 @@ impl Engine {
         if !(x.iter().all(|v| v.is_finite()) && self.cov.is_healthy()) {
             return Err("non-finite state or covariance");
         }
-        let k = (0..k.nrows())
-            .flat_map(|i| (0..N_MEAS).map(move |j| (i, j)))
-            .map(|(i, j)| k[(i, j)])
-            .collect();
         let mut out = self.outcome(&z, s_h, Some(&x));
-        out.gain = Some(SharedGain { k: Some(k), s_h });
+        out.gain = share.then(|| SharedGain {
+            k: Some(
+                (0..k.nrows())
+                    .flat_map(|i| (0..N_MEAS).map(move |j| (i, j)))
+                    .map(|(i, j)| k[(i, j)])
+                    .collect(),
+            ),
+            s_h,
+        });
         Ok(out)
     }
 

@@ -283,8 +283,9 @@ impl CalibrationFilter {
             });
         }
         let mc = self.config.motion_check;
+        let share = matches!(self.role, Role::Leading(_));
         let mut out = engine
-            .update(mc.max_horizontal_innovation_mps)
+            .update(mc.max_horizontal_innovation_mps, share)
             .map_err(|reason| CalibrationError::Diverged { t_s, reason })?;
         if let (Role::Leading(gains), Some(gain)) = (&mut self.role, out.gain.take()) {
             gains.push(gain);
