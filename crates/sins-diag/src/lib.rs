@@ -15,6 +15,7 @@ mod columns;
 mod model;
 pub mod noise;
 mod pass;
+mod recalibration;
 pub mod sensitivity;
 mod twin;
 // 3. Fit.
