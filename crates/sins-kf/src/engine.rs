@@ -193,13 +193,19 @@ impl Engine {
         let c2 = self.c_start * small_rotation(&(th1 + 0.5 * th2));
         self.sums.add(&c1, &th1, &v1, &t1);
         self.sums.add(&c2, &th2, &v2, &t2);
+        self.refresh_c_start();
+        self.sums.count() >= self.samples_per_update
+    }
+
+    /// The body-to-NED matrix at the start of the next pair, from the navigation's attitude
+    /// (the transition sums rotate each sample with it; a following engine keeps none).
+    fn refresh_c_start(&mut self) {
         self.c_start = self
             .nav
             .state()
             .ned_from_body
             .to_rotation_matrix()
             .into_inner();
-        self.sums.count() >= self.samples_per_update
     }
 
     /// A following engine's [`Engine::push`]: the navigation only, no transition sums (the
@@ -297,6 +303,7 @@ impl Engine {
             return Err("non-finite state or covariance");
         }
         let mut out = self.outcome(&z, s_h, Some(&x));
+        self.refresh_c_start();
         out.gain = share.then(|| SharedGain {
             k: Some(
                 (0..k.nrows())
@@ -379,12 +386,6 @@ impl Engine {
             height_m: x[POS + 2],
         };
         self.nav.correct(&phi, &dvel, Some(&dpos));
-        self.c_start = self
-            .nav
-            .state()
-            .ned_from_body
-            .to_rotation_matrix()
-            .into_inner();
         let first_wander = NAV_STATES + self.n_params;
         for (k, w) in self.wander.iter_mut().enumerate() {
             let i = first_wander + 3 * k;
