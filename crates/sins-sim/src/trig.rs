@@ -52,7 +52,7 @@ pub(crate) fn sin_cos_small(r: f64) -> (f64, f64) {
 
 /// `(sin x, cos x)` for a finite `x` (rad), within about one ulp. Arguments beyond ±1e6 rad fall
 /// back to the standard library.
-#[inline]
+#[inline(always)]
 pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
     if x.abs() <= std::f64::consts::FRAC_PI_4 {
         return sin_cos_small(x);
@@ -81,7 +81,7 @@ const TWO_PI_LO: f64 = 8.089_064_995_183_803e-21;
 const INV_TWO_PI: f64 = 0.159_154_943_091_895_35;
 
 /// Dekker's exact product: `a · b = p + e` with `p` the rounded product (no FMA needed).
-#[inline]
+#[inline(always)]
 fn two_prod(a: f64, b: f64) -> (f64, f64) {
     const SPLIT: f64 = 134_217_729.0; // 2^27 + 1
     let split = |x: f64| {
@@ -100,7 +100,7 @@ fn two_prod(a: f64, b: f64) -> (f64, f64) {
 /// the result is accurate to a few ulp of 2π for |ω τ| < 6.5e6 rad, so phases of consecutive
 /// samples, each computed from its own start time, join without the ~1e-10 rad rounding of a
 /// plain `ω τ + φ` after hours of vibration.
-#[inline]
+#[inline(always)]
 pub(crate) fn reduced_phase(omega_radps: f64, tau_s: f64, phase_rad: f64) -> f64 {
     let (p, e) = two_prod(omega_radps, tau_s);
     let n = (p * INV_TWO_PI + ROUND_MAGIC) - ROUND_MAGIC;
