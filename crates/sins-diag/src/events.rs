@@ -50,6 +50,7 @@
 use crate::error::DiagError;
 use crate::model::{Mat7, R_E, R_N, Vec7};
 use crate::problem::RunFitData;
+use crate::runs::par_map;
 use crate::sensitivity::RunSensitivity;
 use crate::stats::chi2_isf;
 use crate::whiten::{Nuisance, RunWhitener};
@@ -414,19 +415,30 @@ pub fn scan_with_signals(
 }
 
 /// [`scan_with_signals`] on runs already prepared (whitened with the covariance of `runs`),
-/// retargeted to the residuals, nuisances and candidates of `runs`.
+/// retargeted to the residuals, nuisances and candidates of `runs`; the runs on up to
+/// `threads` threads (each run is scanned alone: the result does not depend on it).
 pub(crate) fn scan_prepared(
     prepared: &mut [Prepared],
     runs: &[ScanRun<'_>],
     cfg: &EventScanConfig,
+    threads: usize,
 ) -> Result<(EventScan, Vec<EventSignal>), DiagError> {
     if !cfg.enabled || runs.is_empty() {
         return Ok((EventScan::default(), Vec::new()));
     }
     let mut acc = Accumulated::new(family(runs, cfg)?, cfg);
-    for (ri, (p, r)) in prepared.iter_mut().zip(runs).enumerate() {
-        p.take(r, cfg)?;
-        acc.scan_run(ri, p, cfg);
+    let (tests, thr) = (acc.out.tests, acc.out.threshold_chi2);
+    let jobs: Vec<_> = prepared.iter_mut().zip(runs).enumerate().collect();
+    let found = par_map(
+        jobs,
+        threads,
+        |(ri, (p, r))| -> Result<RunScan, DiagError> {
+            p.take(r, cfg)?;
+            Ok(scan_run(ri, p, (tests, thr), cfg))
+        },
+    )?;
+    for f in found {
+        acc.add(f?);
     }
     Ok((acc.out, acc.signals))
 }
@@ -439,6 +451,13 @@ fn family(runs: &[ScanRun<'_>], cfg: &EventScanConfig) -> Result<usize, DiagErro
 /// The scan's result as the runs are scanned.
 struct Accumulated {
     out: EventScan,
+    signals: Vec<EventSignal>,
+}
+
+/// What the scan of one run found.
+struct RunScan {
+    detectable: Vec<DetectableCurve>,
+    events: Vec<TimeLocalEvent>,
     signals: Vec<EventSignal>,
 }
 
@@ -455,32 +474,48 @@ impl Accumulated {
         }
     }
 
-    /// Scan run `ri`: the strongest significant signal, projected out, up to
-    /// `max_events_per_run` times.
+    /// Scan run `ri` (see [`scan_run`]) and add what it found.
     fn scan_run(&mut self, ri: usize, p: &Prepared, cfg: &EventScanConfig) {
         let (tests, thr) = (self.out.tests, self.out.threshold_chi2);
-        let mut nuis = Nuisance::new(p.residual.clone());
-        for v in &p.nuisance {
-            nuis.add(v);
-        }
-        self.out
-            .detectable
-            .extend(detectable_curves(p, &nuis, thr, cfg));
-        for _ in 0..cfg.max_events_per_run {
-            let Some(b) = best(p, &nuis, cfg) else { break };
-            if b.t < thr {
-                break;
-            }
-            let (b, profile) = duration::refit(p, &nuis, b, cfg);
-            let e = event(p, &nuis, &b, profile, (tests, thr), cfg);
-            self.out.events.push(e);
-            self.signals.push(EventSignal {
-                run: ri,
-                contribution: p.whitener.colour(&(&b.signal * (b.a / b.b))),
-            });
-            nuis.add(&b.signal);
-        }
+        self.add(scan_run(ri, p, (tests, thr), cfg));
     }
+
+    /// Add one run's findings, after those of the runs before it.
+    fn add(&mut self, found: RunScan) {
+        self.out.detectable.extend(found.detectable);
+        self.out.events.extend(found.events);
+        self.signals.extend(found.signals);
+    }
+}
+
+/// Scan run `ri`: the strongest significant signal, projected out, up to
+/// `max_events_per_run` times, in a family of `tests` signals with threshold `thr` on `T`.
+fn scan_run(ri: usize, p: &Prepared, (tests, thr): (usize, f64), cfg: &EventScanConfig) -> RunScan {
+    let mut nuis = Nuisance::new(p.residual.clone());
+    for v in &p.nuisance {
+        nuis.add(v);
+    }
+    let mut found = RunScan {
+        detectable: detectable_curves(p, &nuis, thr, cfg),
+        events: Vec::new(),
+        signals: Vec::new(),
+    };
+    for _ in 0..cfg.max_events_per_run {
+        let Some(b) = best(p, &nuis, cfg) else { break };
+        if b.t < thr {
+            break;
+        }
+        let (b, profile) = duration::refit(p, &nuis, b, cfg);
+        found
+            .events
+            .push(event(p, &nuis, &b, profile, (tests, thr), cfg));
+        found.signals.push(EventSignal {
+            run: ri,
+            contribution: p.whitener.colour(&(&b.signal * (b.a / b.b))),
+        });
+        nuis.add(&b.signal);
+    }
+    found
 }
 
 /// The number of signals [`scan`] tests on a run (what [`AxisSignals::visit`] hands out).

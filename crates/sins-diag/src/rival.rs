@@ -31,6 +31,7 @@ use crate::input::DiagnoseConfig;
 use crate::problem::RunFitData;
 use crate::rank::{Evaluated, Layout, NullDist, evaluate};
 use crate::report::{Note, NoteKind, TimeCourseAlternative, Verdict};
+use crate::runs::par_map;
 use crate::stacked::Stacked;
 use crate::stats::chi2_isf;
 use crate::timelocal::without_events;
@@ -170,7 +171,16 @@ impl Table {
     }
 }
 
-fn fill(st: &Stacked, q: &[DVector<f64>], r: &DVector<f64>, cfg: &EventScanConfig) -> Table {
+/// The table of every run's signals against the residual `r` and the nuisance directions
+/// `q`, one job per run and axis on up to `threads` threads (each fills its own part of its
+/// run's slab: the table does not depend on the thread count).
+fn fill(
+    st: &Stacked,
+    q: &[DVector<f64>],
+    r: &DVector<f64>,
+    cfg: &EventScanConfig,
+    threads: usize,
+) -> Result<Table, DiagError> {
     let index = Forms::new(cfg);
     let forms = index.count();
     let kmax = st
@@ -182,34 +192,56 @@ fn fill(st: &Stacked, q: &[DVector<f64>], r: &DVector<f64>, cfg: &EventScanConfi
         .max(1);
     let stride = 2 + q.len();
     let keys = 6 * forms * kmax;
-    let mut t = Table {
+    let blocks: Vec<(DVector<f64>, Vec<DVector<f64>>)> = (0..st.runs.len())
+        .map(|ri| (st.block(ri, r), q.iter().map(|v| st.block(ri, v)).collect()))
+        .collect();
+    let mut slabs: Vec<Vec<f64>> = st
+        .runs
+        .iter()
+        .map(|_| vec![f64::NAN; keys * stride])
+        .collect();
+    // An axis's keys are contiguous: (axis · forms + form) · kmax + onset.
+    let jobs: Vec<(usize, usize, &mut [f64])> = slabs
+        .iter_mut()
+        .enumerate()
+        .flat_map(|(ri, slab)| {
+            slab.chunks_mut(forms * kmax * stride)
+                .enumerate()
+                .map(move |(axis, part)| (ri, axis, part))
+        })
+        .collect();
+    let seen = par_map(jobs, threads, |(ri, axis, part)| {
+        let (rb, qb) = &blocks[ri];
+        let mut seen = vec![None; forms];
+        visit_axis(&st.runs[ri], axis, cfg, &mut |form, m, sig| {
+            let fi = index.index(form);
+            seen[fi] = Some(form);
+            let k = fi * kmax + m;
+            let e = &mut part[k * stride..(k + 1) * stride];
+            e[0] = sig.dot(rb);
+            e[1] = sig.dot(sig);
+            for (j, v) in qb.iter().enumerate() {
+                e[2 + j] = sig.dot(v);
+            }
+        });
+        seen
+    })?;
+    let mut form_of = vec![None; forms];
+    for job in seen {
+        for (f, s) in form_of.iter_mut().zip(job) {
+            if s.is_some() {
+                *f = s;
+            }
+        }
+    }
+    Ok(Table {
         keys,
         stride,
         kmax,
         forms,
-        runs: Vec::with_capacity(st.runs.len()),
-        form_of: vec![None; forms],
-    };
-    for (ri, p) in st.runs.iter().enumerate() {
-        let rb = st.block(ri, r);
-        let qb: Vec<DVector<f64>> = q.iter().map(|v| st.block(ri, v)).collect();
-        let mut slab = vec![f64::NAN; keys * stride];
-        for axis in 0..6 {
-            visit_axis(p, axis, cfg, &mut |form, m, sig| {
-                let fi = index.index(form);
-                t.form_of[fi] = Some(form);
-                let k = (axis * forms + fi) * kmax + m;
-                let e = &mut slab[k * stride..(k + 1) * stride];
-                e[0] = sig.dot(&rb);
-                e[1] = sig.dot(sig);
-                for (j, v) in qb.iter().enumerate() {
-                    e[2 + j] = sig.dot(v);
-                }
-            });
-        }
-        t.runs.push(slab);
-    }
-    t
+        runs: slabs,
+        form_of,
+    })
 }
 
 /// The strongest signal of the family (per run and common to every run).
@@ -308,14 +340,18 @@ pub(crate) struct RivalFit {
 }
 
 /// Fit the rivals to the stacked residual of `st` (the gap of the twin alone).
-pub(crate) fn fit_rivals(st: &Stacked, cfg: &EventScanConfig) -> RivalFit {
+pub(crate) fn fit_rivals(
+    st: &Stacked,
+    cfg: &EventScanConfig,
+    threads: usize,
+) -> Result<RivalFit, DiagError> {
     let tests = family(st, cfg);
     let thr = chi2_isf(cfg.alpha / tests.max(1) as f64, 1.0);
     let r0 = st.residual();
     let mut nuis = Nuisance::new(r0.clone());
     let mut picks: Vec<(Pick, DVector<f64>)> = Vec::new();
     while picks.len() < MAX_RIVAL_SIGNALS {
-        let table = fill(st, &nuis.q, &nuis.r, cfg);
+        let table = fill(st, &nuis.q, &nuis.r, cfg, threads)?;
         let Some(best) = strongest(&table, st.common_onsets) else {
             break;
         };
@@ -344,13 +380,13 @@ pub(crate) fn fit_rivals(st: &Stacked, cfg: &EventScanConfig) -> RivalFit {
         .zip(theta.iter())
         .map(|((p, _), &size)| describe(st, p, size))
         .collect();
-    RivalFit {
+    Ok(RivalFit {
         alternatives,
         contributions,
         signals: picks.into_iter().map(|(_, s)| s).collect(),
         threshold_chi2: thr,
         tests,
-    }
+    })
 }
 
 fn describe(st: &Stacked, p: &Pick, size_si: f64) -> TimeCourseAlternative {
@@ -568,7 +604,7 @@ pub(crate) fn challenge(
     else {
         return Ok((verdict, Vec::new()));
     };
-    let fit = fit_rivals(st, &cfg.events);
+    let fit = fit_rivals(st, &cfg.events, cfg.threads)?;
     let list = fit
         .alternatives
         .iter()

@@ -33,7 +33,6 @@ pub fn par_runs<T: Send>(
     threads: usize,
     f: impl Fn(&mut RunData) -> Result<T, DiagError> + Sync,
 ) -> Result<Vec<T>, DiagError> {
-    let n = runs.len();
     // Longest first (by the real track's span), ties in run order.
     let span = |r: &RunData| match (r.track.first(), r.track.last()) {
         (Some(a), Some(b)) => b.t_s - a.t_s,
@@ -41,34 +40,58 @@ pub fn par_runs<T: Send>(
     };
     let mut queue: Vec<(usize, &mut RunData)> = runs.iter_mut().enumerate().collect();
     queue.sort_by(|a, b| span(b.1).total_cmp(&span(a.1)).then(a.0.cmp(&b.0)));
+    let order: Vec<usize> = queue.iter().map(|(i, _)| *i).collect();
+    let done = par_map(queue.into_iter().map(|(_, r)| r).collect(), threads, |r| {
+        f(r)
+    })?;
+    let mut results: Vec<Option<Result<T, DiagError>>> = order.iter().map(|_| None).collect();
+    for (i, out) in order.into_iter().zip(done) {
+        results[i] = Some(out);
+    }
+    results
+        .into_iter()
+        .map(|r| r.unwrap_or_else(|| Err(DiagError::Numerical("run not processed".into()))))
+        .collect()
+}
+
+/// `f` on every item, on up to `threads` workers that each take the next item not yet started
+/// (in the order given); results in item order, identical for any thread count (each item is
+/// processed alone).
+pub(crate) fn par_map<I: Send, T: Send>(
+    items: Vec<I>,
+    threads: usize,
+    f: impl Fn(I) -> T + Sync,
+) -> Result<Vec<T>, DiagError> {
+    let n = items.len();
+    let mut queue: Vec<(usize, I)> = items.into_iter().enumerate().collect();
     queue.reverse(); // popped from the back
     let queue = std::sync::Mutex::new(queue);
-    let results = std::sync::Mutex::new((0..n).map(|_| None).collect::<Vec<Option<_>>>());
+    let results = std::sync::Mutex::new((0..n).map(|_| None).collect::<Vec<Option<T>>>());
+    let work = || {
+        loop {
+            let next = queue.lock().ok().and_then(|mut q| q.pop());
+            let Some((i, item)) = next else { break };
+            let out = f(item);
+            if let Ok(mut r) = results.lock() {
+                r[i] = Some(out);
+            }
+        }
+    };
     let panicked = std::thread::scope(|s| {
         let workers: Vec<_> = (0..threads.clamp(1, n.max(1)))
-            .map(|_| {
-                s.spawn(|| {
-                    loop {
-                        let next = queue.lock().ok().and_then(|mut q| q.pop());
-                        let Some((i, run)) = next else { break };
-                        let out = f(run);
-                        if let Ok(mut r) = results.lock() {
-                            r[i] = Some(out);
-                        }
-                    }
-                })
-            })
+            .map(|_| s.spawn(work))
             .collect();
         workers.into_iter().any(|w| w.join().is_err())
     });
+    let lost = || DiagError::Numerical("a worker thread panicked".into());
     if panicked {
-        return Err(DiagError::Numerical("a worker thread panicked".into()));
+        return Err(lost());
     }
     results
         .into_inner()
-        .map_err(|_| DiagError::Numerical("a worker thread panicked".into()))?
+        .map_err(|_| lost())?
         .into_iter()
-        .map(|r| r.unwrap_or_else(|| Err(DiagError::Numerical("run not processed".into()))))
+        .map(|r| r.ok_or_else(lost))
         .collect()
 }
 

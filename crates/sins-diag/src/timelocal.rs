@@ -88,7 +88,7 @@ pub(crate) fn time_local_events(
     let winner = ranked.first().filter(|e| e.report.passes);
     let runs = scan_runs(winner, ranked, sc);
     let (mut events, signals) = match prepared {
-        Some(p) => scan_prepared(p, &runs, &cfg.events)?,
+        Some(p) => scan_prepared(p, &runs, &cfg.events, cfg.threads)?,
         None => scan_with_signals(&runs, &cfg.events)?,
     };
     let walk = winner
