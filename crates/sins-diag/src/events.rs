@@ -49,8 +49,8 @@
 
 use crate::error::DiagError;
 use crate::model::{Mat7, R_E, R_N, Vec7};
+use crate::parallel::par_map;
 use crate::problem::RunFitData;
-use crate::runs::par_map;
 use crate::sensitivity::RunSensitivity;
 use crate::stats::chi2_isf;
 use crate::whiten::{Nuisance, RunWhitener};

@@ -53,6 +53,7 @@ mod validate;
 mod winner;
 // Shared.
 mod error;
+mod parallel;
 mod runs;
 mod stats;
 

@@ -28,10 +28,10 @@
 use crate::error::DiagError;
 use crate::events::{AXES, EventScanConfig, EventSignal, Prepared, Shape, signals_per_axis};
 use crate::input::DiagnoseConfig;
+use crate::parallel::par_map;
 use crate::problem::RunFitData;
 use crate::rank::{Evaluated, Layout, NullDist, evaluate};
 use crate::report::{Note, NoteKind, TimeCourseAlternative, Verdict};
-use crate::runs::par_map;
 use crate::stacked::Stacked;
 use crate::stats::chi2_isf;
 use crate::timelocal::without_events;
