@@ -41,18 +41,10 @@ pub fn par_runs<T: Send>(
     };
     let mut queue: Vec<(usize, &mut RunData)> = runs.iter_mut().enumerate().collect();
     queue.sort_by(|a, b| span(b.1).total_cmp(&span(a.1)).then(a.0.cmp(&b.0)));
-    let order: Vec<usize> = queue.iter().map(|(i, _)| *i).collect();
-    let done = par_map(queue.into_iter().map(|(_, r)| r).collect(), threads, |r| {
-        f(r)
-    })?;
-    let mut results: Vec<Option<Result<T, DiagError>>> = order.iter().map(|_| None).collect();
-    for (i, out) in order.into_iter().zip(done) {
-        results[i] = Some(out);
-    }
-    results
-        .into_iter()
-        .map(|r| r.unwrap_or_else(|| Err(DiagError::Numerical("run not processed".into()))))
-        .collect()
+    let mut done = par_map(queue, threads, |(i, r)| (i, f(r)))?;
+    // Back from the longest-first order to run order.
+    done.sort_by_key(|(i, _)| *i);
+    done.into_iter().map(|(_, r)| r).collect()
 }
 
 /// A deterministic candidate's columns on a run's output grid, per candidate unit.
