@@ -114,6 +114,9 @@ pub fn replay_corrected(
     )
 }
 
+/// Samples corrected at a time before the replay takes them (a few hundred kB).
+const CORRECTED_CHUNK: usize = 4096;
+
 fn replay_impl(
     run: &str,
     source: &mut dyn SampleSource,
@@ -130,20 +133,31 @@ fn replay_impl(
         .ok_or_else(|| DiagError::input(run, "parameter set is singular"))?;
     let mut tracker = ContextTracker::new();
     let mut temps = TemperatureSeries::new(t0);
+    let mut corrected = Vec::new();
     source.visit(&mut |samples, segments| {
-        for (s, &g) in samples.iter().zip(segments) {
+        let samples = &samples[..samples.len().min(segments.len())];
+        for s in samples {
             temps.push(s, h);
-            match correction.as_mut() {
-                Some((effect, series)) => {
-                    let ctx = sample_context(&mut tracker, &comp, s, h, series);
-                    let (p_theta, p_v) = effect.perturbation(&ctx);
-                    let mut c = *s;
-                    c.dtheta_rad -= p_theta;
-                    c.dv_mps -= p_v;
-                    replay.push(&c, g)?;
+        }
+        match correction.as_mut() {
+            Some((effect, series)) => {
+                for (part, seg) in samples
+                    .chunks(CORRECTED_CHUNK)
+                    .zip(segments.chunks(CORRECTED_CHUNK))
+                {
+                    corrected.clear();
+                    corrected.extend(part.iter().map(|s| {
+                        let ctx = sample_context(&mut tracker, &comp, s, h, series);
+                        let (p_theta, p_v) = effect.perturbation(&ctx);
+                        let mut c = *s;
+                        c.dtheta_rad -= p_theta;
+                        c.dv_mps -= p_v;
+                        c
+                    }));
+                    replay.push_batch(&corrected, Some(seg))?;
                 }
-                None => replay.push(s, g)?,
             }
+            None => replay.push_batch(samples, Some(segments))?,
         }
         Ok(())
     })?;

@@ -9,6 +9,8 @@ use crate::effects::{EffectContext, ExtraEffect};
 use crate::params::ImuErrorParams;
 use sins_nav::{Mat3, Vec3};
 
+mod lanes;
+
 /// The truth an IMU applies: eq (1) for the accelerometers, eq (2) for the gyros, then every
 /// enabled extra effect in order. Adding an effect never touches the paper's terms.
 pub struct ForwardModel {

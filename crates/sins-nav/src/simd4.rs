@@ -11,7 +11,7 @@ pub use portable::Token;
 use pulp::f64x4;
 #[cfg(target_arch = "x86_64")]
 pub use pulp::x86::V3 as Token;
-use std::ops::{Add, Mul, Sub};
+use std::ops::{Add, Div, Mul, Sub};
 
 /// Lanes per vector.
 pub const LANES: usize = 4;
@@ -152,6 +152,7 @@ macro_rules! lane_op {
 lane_op!(Add, add, add_f64x4);
 lane_op!(Sub, sub, sub_f64x4);
 lane_op!(Mul, mul, mul_f64x4);
+lane_op!(Div, div, div_f64x4);
 
 impl Mul<f64> for F4 {
     type Output = F4;
@@ -216,6 +217,12 @@ impl V4 {
             y: self.z * b.x - self.x * b.z,
             z: self.x * b.y - self.y * b.x,
         }
+    }
+
+    /// nalgebra's `dot` for 3-vectors: `(x·b.x + y·b.y) + z·b.z`.
+    #[inline(always)]
+    pub fn dot(&self, b: &V4) -> F4 {
+        self.x * b.x + self.y * b.y + self.z * b.z
     }
 
     /// nalgebra's `norm_squared` for a 3-vector: `x² + y² + z²`, left to right.

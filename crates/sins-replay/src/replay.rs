@@ -123,7 +123,13 @@ pub struct Replay {
     stamped: bool,
     /// The previous sample's `t_s`, with stamped intervals.
     prev_t_s: Option<f64>,
+    /// Scratch of [`Replay::push_batch`]: a chunk's intervals (s) and compensated increments.
+    hs: Vec<f64>,
+    incs: Vec<Increment>,
 }
+
+/// Samples that [`Replay::push_batch`] compensates before it navigates them.
+const BATCH_CHUNK: usize = 1024;
 
 impl Replay {
     /// Replay at the fixed `site` with samples starting at `t0_s` (the start of the first
@@ -148,6 +154,8 @@ impl Replay {
             recon: ReconstructConfig::default(),
             stamped: false,
             prev_t_s: None,
+            hs: Vec::new(),
+            incs: Vec::new(),
         }
     }
 
@@ -174,6 +182,14 @@ impl Replay {
     /// Feed one raw sample with its segment index.
     #[inline]
     pub fn push(&mut self, s: &ImuSample, segment: u16) -> Result<(), ReplayError> {
+        let h = self.interval_of(s);
+        let inc = self.compensate(s, h)?;
+        self.push_increment(&inc, h, segment)
+    }
+
+    /// The interval `s` covers (s): its stamped step with stamped intervals, else 1/rate.
+    #[inline]
+    fn interval_of(&mut self, s: &ImuSample) -> f64 {
         let mut h = self.config.nav.sample_interval_s;
         if self.stamped {
             if let Some(prev) = self.prev_t_s {
@@ -181,19 +197,38 @@ impl Replay {
             }
             self.prev_t_s = Some(s.t_s);
         }
+        h
+    }
+
+    /// An error if the parameter set needs temperatures that `s` lacks.
+    #[inline]
+    fn check_temperatures(&self, s: &ImuSample) -> Result<(), ReplayError> {
         let temp = &s.temp_degc;
         if self.compensator.uses_temperature()
             && !(temp[0].is_finite() && temp[1].is_finite() && temp[2].is_finite())
         {
             return Err(ReplayError::MissingTemperature { t_s: s.t_s });
         }
-        let inc = Increment {
+        Ok(())
+    }
+
+    /// The compensated increments of `s` over `h` seconds.
+    #[inline]
+    fn compensate(&self, s: &ImuSample, h: f64) -> Result<Increment, ReplayError> {
+        self.check_temperatures(s)?;
+        let temp = &s.temp_degc;
+        Ok(Increment {
             dtheta_rad: self.compensator.dtheta_rad(&s.dtheta_rad, h),
             dv_mps: self.compensator.dv_mps(&s.dv_mps, h, temp),
-        };
+        })
+    }
+
+    /// Feed one compensated increment over `h` seconds with its segment index.
+    #[inline]
+    fn push_increment(&mut self, inc: &Increment, h: f64, segment: u16) -> Result<(), ReplayError> {
         match &mut self.phase {
             Phase::Aligning(a) => {
-                if a.push(&inc)? {
+                if a.push(inc)? {
                     let result = a.finish()?;
                     self.nav_start_s = result.state.t_s;
                     self.phase = Phase::navigating(&self.config, self.recon, result.state);
@@ -201,9 +236,9 @@ impl Replay {
             }
             Phase::Navigating(nav) => {
                 if self.stamped {
-                    nav.push_timed(&inc, h);
+                    nav.push_timed(inc, h);
                 } else {
-                    nav.push(&inc);
+                    nav.push(inc);
                 }
                 self.nav_samples += 1;
                 if self.nav_samples.is_multiple_of(self.samples_per_output)
@@ -216,7 +251,7 @@ impl Replay {
                 if r.segments.back().is_some_and(|&g| g != segment) {
                     r.recon.start_new_piece();
                 }
-                r.recon.push(&inc);
+                r.recon.push(inc);
                 r.segments.push_back(segment);
                 if self.stamped {
                     r.intervals.push_back(h);
@@ -233,13 +268,41 @@ impl Replay {
         samples: &[ImuSample],
         segments: Option<&[u16]>,
     ) -> Result<(), ReplayError> {
-        match segments {
-            Some(seg) => samples
-                .iter()
-                .zip(seg)
-                .try_for_each(|(s, &g)| self.push(s, g)),
-            None => samples.iter().try_for_each(|s| self.push(s, 0)),
+        let samples = &samples[..segments.map_or(samples.len(), |g| g.len().min(samples.len()))];
+        for chunk in (0..samples.len()).step_by(BATCH_CHUNK) {
+            let part = &samples[chunk..(chunk + BATCH_CHUNK).min(samples.len())];
+            let mut hs = std::mem::take(&mut self.hs);
+            let mut incs = std::mem::take(&mut self.incs);
+            hs.clear();
+            incs.clear();
+            // Compensate up to the first sample without temperatures, which stops the batch
+            // after the samples before it, as pushing one at a time would.
+            let mut failed = None;
+            for s in part {
+                let h = self.interval_of(s);
+                if let Err(e) = self.check_temperatures(s) {
+                    failed = Some(e);
+                    break;
+                }
+                hs.push(h);
+            }
+            self.compensator.compensate_into(part, &hs, &mut incs);
+            let mut result = Ok(());
+            for (k, (inc, &h)) in incs.iter().zip(&hs).enumerate() {
+                let g = segments.map_or(0, |g| g[chunk + k]);
+                result = self.push_increment(inc, h, g);
+                if result.is_err() {
+                    break;
+                }
+            }
+            self.hs = hs;
+            self.incs = incs;
+            result?;
+            if let Some(e) = failed {
+                return Err(e);
+            }
         }
+        Ok(())
     }
 
     /// Navigate every interval the reconstructor has completed.

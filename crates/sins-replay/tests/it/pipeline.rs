@@ -18,7 +18,7 @@ fn base_scenario() -> Scenario {
 }
 
 /// A stationary scenario of `hours`, level with the forward axis north.
-fn stationary(hours: f64, truth: ImuErrorParams) -> Scenario {
+pub(crate) fn stationary(hours: f64, truth: ImuErrorParams) -> Scenario {
     let mut sc = base_scenario();
     sc.motion.initial_ned_from_body = ned_from_body_euler(&Euler::default());
     sc.motion.segments = vec![MotionSegment::Dwell {
