@@ -66,7 +66,7 @@ pub fn calibrate_scenario(
         }
         samples += b.samples.len();
         let t0 = Instant::now();
-        let r = b.samples.iter().try_for_each(|s| filter.push(s));
+        let r = filter.push_batch(&b.samples, None);
         in_filter += t0.elapsed();
         r
     });

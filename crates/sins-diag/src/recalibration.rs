@@ -235,6 +235,7 @@ fn feed(
     gains: &[SharedGain],
 ) -> Result<(), DiagError> {
     let mut perturbations = Vec::with_capacity(SUB_BATCH.min(samples.len()));
+    let mut perturbed = Vec::with_capacity(SUB_BATCH.min(samples.len()));
     let filter_err =
         |e: sins_kf::CalibrationError| DiagError::Numerical(format!("calibration filter: {e}"));
     // Each filter's place in the leader's gains, kept from one sub-batch to the next.
@@ -246,18 +247,17 @@ fn feed(
                 Some(effect) => effect.perturbations(ctxs, &mut perturbations),
                 None => perturbations.clear(),
             }
-            for (k, s) in samples.iter().enumerate() {
+            perturbed.clear();
+            perturbed.extend(samples.iter().enumerate().map(|(k, s)| {
                 let mut x = *s;
                 if let Some((p_theta, p_v)) = perturbations.get(k) {
                     x.dtheta_rad += p_theta;
                     x.dv_mps += p_v;
                 }
-                match arm.follows {
-                    true => arm.filter.push_led(&x, led),
-                    false => arm.filter.push(&x),
-                }
-                .map_err(filter_err)?;
-            }
+                x
+            }));
+            let led = arm.follows.then_some(led);
+            arm.filter.push_batch(&perturbed, led).map_err(filter_err)?;
         }
     }
     Ok(())

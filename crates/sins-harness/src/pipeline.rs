@@ -302,9 +302,9 @@ pub fn simulate_and_calibrate(
     }
     sim.run(SIM_BATCH, |b| {
         for (model, filter) in &mut filters {
-            for s in &b.samples {
-                filter.push(s).map_err(cal_err(*model))?;
-            }
+            filter
+                .push_batch(&b.samples, None)
+                .map_err(cal_err(*model))?;
         }
         progress(b.len() as u64);
         Ok::<(), HarnessError>(())

@@ -220,6 +220,23 @@ impl Engine {
         self.led_count >= self.samples_per_update
     }
 
+    /// The samples up to and including the one whose push completes the next update interval
+    /// ([`Engine::push`] or, when `led`, [`Engine::push_led`]): the compensation stays the
+    /// same until then.
+    pub(crate) fn samples_to_update(&self, led: bool) -> usize {
+        let count = if led {
+            self.led_count
+        } else {
+            self.sums.count()
+        };
+        let pairs = self
+            .samples_per_update
+            .saturating_sub(count)
+            .div_ceil(2)
+            .max(1);
+        2 * pairs - self.n_pending
+    }
+
     /// Hold a sample; with the second of a pair, advance the navigation over the pair and
     /// return true.
     #[inline]

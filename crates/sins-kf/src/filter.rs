@@ -40,7 +40,15 @@ pub struct CalibrationFilter {
     /// Every update's standardized innovation, when kept.
     innovations: Option<Vec<StandardizedInnovation>>,
     role: Role,
+    /// How many times the compensation has changed (each applied update).
+    generation: u64,
+    /// Scratch of [`CalibrationFilter::push_batch`]: a stretch's compensated increments.
+    scratch: Vec<Increment>,
 }
+
+/// Samples that [`CalibrationFilter::push_batch`] compensates at a time before the filter runs
+/// (it runs from one update to the next after that).
+const STRETCH_WHILE_ALIGNING: usize = 1024;
 
 /// Whether a filter keeps its own covariance, hands its gains on, or applies another's.
 enum Role {
@@ -107,6 +115,8 @@ impl CalibrationFilter {
             max_nis: 0.0,
             innovations: None,
             role: Role::Alone,
+            generation: 0,
+            scratch: Vec::new(),
         })
     }
 
@@ -156,11 +166,105 @@ impl CalibrationFilter {
         gains: &mut std::slice::Iter<'_, SharedGain>,
     ) -> Result<(), CalibrationError> {
         self.check_sample(s)?;
+        let (dtheta, dv) = self.compensate(s);
+        self.push_compensated(s, dtheta, dv, Some(gains))
+    }
+
+    /// Feed `samples` (time order) as [`CalibrationFilter::push`] does one by one or, with
+    /// `gains`, as [`CalibrationFilter::push_led`] does; the same results to the bit, but each
+    /// stretch between two updates (where the compensation stays the same) is compensated
+    /// four samples at a time ([`Compensator::compensate_into`]). Stops at the first error,
+    /// after the samples before it.
+    pub fn push_batch(
+        &mut self,
+        samples: &[ImuSample],
+        mut gains: Option<&mut std::slice::Iter<'_, SharedGain>>,
+    ) -> Result<(), CalibrationError> {
+        let mut incs = std::mem::take(&mut self.scratch);
+        let result = self.push_stretches(samples, &mut gains, &mut incs);
+        self.scratch = incs;
+        result
+    }
+
+    /// [`CalibrationFilter::push_batch`] with its scratch of compensated increments.
+    fn push_stretches(
+        &mut self,
+        samples: &[ImuSample],
+        gains: &mut Option<&mut std::slice::Iter<'_, SharedGain>>,
+        incs: &mut Vec<Increment>,
+    ) -> Result<(), CalibrationError> {
+        let led = gains.is_some();
+        let mut rest = samples;
+        while !rest.is_empty() {
+            let stretch = match &self.phase {
+                Phase::Calibrating(engine) => engine.samples_to_update(led),
+                Phase::Waiting | Phase::Aligning(_) => STRETCH_WHILE_ALIGNING,
+            };
+            let (head, tail) = rest.split_at(stretch.min(rest.len()));
+            let checked = head
+                .iter()
+                .take_while(|s| self.check_sample(s).is_ok())
+                .count();
+            let mut todo = &head[..checked];
+            while !todo.is_empty() {
+                incs.clear();
+                let hs = [self.h; STRETCH_WHILE_ALIGNING];
+                for part in todo.chunks(hs.len()) {
+                    self.compensator.compensate_into(part, &hs, incs);
+                }
+                let generation = self.generation;
+                let mut done = 0;
+                for (s, inc) in todo.iter().zip(incs.iter()) {
+                    let gains = gains.as_deref_mut();
+                    self.push_compensated(s, inc.dtheta_rad, inc.dv_mps, gains)?;
+                    done += 1;
+                    // An update changed the compensation: compensate the rest again.
+                    if self.generation != generation {
+                        break;
+                    }
+                }
+                todo = &todo[done..];
+            }
+            if checked < head.len() {
+                // The sample that failed its check, checked again for its error.
+                return self.check_sample(&head[checked]);
+            }
+            rest = tail;
+        }
+        Ok(())
+    }
+
+    /// The compensated increments of `s` with the current estimate (rad, m/s).
+    #[inline]
+    fn compensate(&self, s: &ImuSample) -> (Vec3, Vec3) {
         let h = self.h;
         let dtheta = self.compensator.dtheta_rad(&s.dtheta_rad, h);
         let dv = self.compensator.dv_mps(&s.dv_mps, h, &s.temp_degc);
+        (dtheta, dv)
+    }
+
+    /// One checked sample's compensated increments into the alignment or the filter: a
+    /// following filter's update takes the next of `gains`.
+    #[inline]
+    fn push_compensated(
+        &mut self,
+        s: &ImuSample,
+        dtheta: Vec3,
+        dv: Vec3,
+        gains: Option<&mut std::slice::Iter<'_, SharedGain>>,
+    ) -> Result<(), CalibrationError> {
         let Phase::Calibrating(engine) = &mut self.phase else {
             return self.align(s, dtheta, dv);
+        };
+        let Some(gains) = gains else {
+            let dtemp = self
+                .compensator
+                .params()
+                .temperature_offsets_degc(&s.temp_degc);
+            if engine.push(dtheta, dv, dtemp) {
+                self.update()?;
+            }
+            return Ok(());
         };
         if !engine.push_led(dtheta, dv) {
             return Ok(());
@@ -196,22 +300,8 @@ impl CalibrationFilter {
     /// Add one raw sample (time order, evenly spaced at the configured interval).
     pub fn push(&mut self, s: &ImuSample) -> Result<(), CalibrationError> {
         self.check_sample(s)?;
-        let h = self.h;
-        let dtheta = self.compensator.dtheta_rad(&s.dtheta_rad, h);
-        let dv = self.compensator.dv_mps(&s.dv_mps, h, &s.temp_degc);
-        match &mut self.phase {
-            Phase::Waiting | Phase::Aligning(_) => self.align(s, dtheta, dv),
-            Phase::Calibrating(engine) => {
-                let dtemp = self
-                    .compensator
-                    .params()
-                    .temperature_offsets_degc(&s.temp_degc);
-                if engine.push(dtheta, dv, dtemp) {
-                    self.update()?;
-                }
-                Ok(())
-            }
-        }
+        let (dtheta, dv) = self.compensate(s);
+        self.push_compensated(s, dtheta, dv, None)
     }
 
     fn align(&mut self, s: &ImuSample, dtheta: Vec3, dv: Vec3) -> Result<(), CalibrationError> {
@@ -334,6 +424,7 @@ impl CalibrationFilter {
             t_s: out.t_s,
             reason: "estimate not invertible",
         })?;
+        self.generation += 1;
         let following = matches!(self.role, Role::Following);
         if !following && engine.updates % self.updates_per_snapshot == 0 {
             self.history.push(Snapshot {

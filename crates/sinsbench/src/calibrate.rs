@@ -111,11 +111,9 @@ pub fn run(args: Args, quiet: bool) -> Result<()> {
     )?;
     let pb = progress::bar(info.n_rows, "calibrate", quiet);
     while let Some(batch) = reader.next_batch()? {
-        for s in &batch.samples {
-            filter
-                .push(s)
-                .with_context(|| format!("{}: calibration stopped", info.path.display()))?;
-        }
+        filter
+            .push_batch(&batch.samples, None)
+            .with_context(|| format!("{}: calibration stopped", info.path.display()))?;
         pb.inc(batch.samples.len() as u64);
     }
     pb.finish_and_clear();

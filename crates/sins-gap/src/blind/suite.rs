@@ -139,9 +139,7 @@ fn generate(
     .map_err(cal_err)?;
     let cal_file = dir.join(format!("{CALIBRATION_RUN}.parquet"));
     simulate_to_dataset_with(&cal_exp.name, &cal, &cal_file, progress, &mut |samples| {
-        for s in samples {
-            filter.push(s).map_err(cal_err)?;
-        }
+        filter.push_batch(samples, None).map_err(cal_err)?;
         Ok(())
     })?;
     let result = filter.finish().map_err(cal_err)?;

@@ -3,6 +3,7 @@
 //! rerun come along; 95 test binaries took gigabytes of CI disk).
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is its failure message
 
+mod batch;
 mod common;
 mod leading;
 mod paper_noise_free;
