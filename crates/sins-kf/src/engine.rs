@@ -294,6 +294,7 @@ impl Engine {
         let t = self.samples_per_update as f64 * self.h;
         let st = *self.nav.state();
         let pos = st.position;
+        self.sums.flush();
         let f_ned = self.sums.mean_specific_force_ned();
         let f = error_model::f_matrix(pos.lat_rad, pos.height_m, &st.vel_ned_mps, &f_ned);
         let phi_nn = error_model::transition(&f, t);

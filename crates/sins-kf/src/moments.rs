@@ -11,7 +11,9 @@
 
 use crate::states::{COLUMNS, PHI, Row, U_DT, VEL};
 use faer::Mat;
+use pulp::f64x4;
 use sins_nav::error_model::Mat9;
+use sins_nav::simd4::{self, F4, LANES, Token};
 use sins_nav::{Mat3, Vec3};
 
 /// Number of accumulated inputs per attitude column (see [`crate::states::U_DT`]).
@@ -40,8 +42,26 @@ pub(crate) struct MomentSums {
     count: usize,
     /// Whether the temperature inputs are needed (42-state model).
     with_temperature: bool,
-    /// The widest instruction set of this CPU, detected once.
-    arch: pulp::Arch,
+    /// Samples added but not yet in `sums` (see [`MomentSums::flush`]).
+    pending: Vec<Pending>,
+    /// The AVX2 token if the CPU has AVX2, detected once.
+    simd: Option<Token>,
+}
+
+/// Number of rows of the sums: moments x columns x navigation-frame components.
+const ROWS: usize = N_MOMENTS * 3 * 3;
+/// Samples held before they are added to the sums.
+const FLUSH_EVERY: usize = 64;
+/// Rows of the sums that one pass over the held samples adds to (their 12 vectors stay in
+/// registers; 27 rows make nine passes).
+const ROW_GROUP: usize = 3;
+const _: () = assert!(ROWS.is_multiple_of(ROW_GROUP) && N_LANES == 4 * LANES);
+
+/// One held sample: its weights `C[r, i] w[n]` (row `9n + 3i + r` of the sums) and inputs.
+#[derive(Clone, Copy, Debug)]
+struct Pending {
+    cw: [f64; ROWS],
+    u: [f64; N_LANES],
 }
 
 impl MomentSums {
@@ -53,13 +73,15 @@ impl MomentSums {
             h,
             count: 0,
             with_temperature,
-            arch: pulp::Arch::new(),
+            pending: Vec::with_capacity(FLUSH_EVERY),
+            simd: simd4::token(),
         }
     }
 
     /// Restart for the next interval.
     pub(crate) fn clear(&mut self) {
         self.sums = [[[[0.0; N_LANES]; 3]; 3]; N_MOMENTS];
+        self.pending.clear();
         self.count = 0;
     }
 
@@ -82,12 +104,42 @@ impl MomentSums {
         u[U_DT] = h;
         // Without temperature the temperature inputs stay zero and add exact zeros.
         let w = [1.0, tau, 0.5 * tau * tau];
-        self.arch.dispatch(Accumulate {
-            sums: &mut self.sums,
-            c_mid,
-            w,
-            u: &u,
+        let cw = std::array::from_fn(|row| {
+            let (n, i, r) = (row / 9, row / 3 % 3, row % 3);
+            c_mid[(r, i)] * w[n]
         });
+        self.pending.push(Pending { cw, u });
+        if self.pending.len() == FLUSH_EVERY {
+            self.flush();
+        }
+    }
+
+    /// Add the held samples to the sums: `sums[n][i][r] += (C[r, i] w[n]) u` for each sample in
+    /// turn, the same multiply and add per element as one sample at a time, so the sums are
+    /// the same to the bit; with AVX2 a row group's sums stay in registers over the samples.
+    /// Call before reading the sums.
+    pub(crate) fn flush(&mut self) {
+        let rows = self.sums.as_flattened_mut().as_flattened_mut();
+        match self.simd {
+            Some(s) => simd4::vectorize(
+                s,
+                Flush {
+                    rows,
+                    pending: &self.pending,
+                    s,
+                },
+            ),
+            None => {
+                for p in &self.pending {
+                    for (row, &c) in rows.iter_mut().zip(&p.cw) {
+                        for (acc, uj) in row.iter_mut().zip(&p.u) {
+                            *acc += c * uj;
+                        }
+                    }
+                }
+            }
+        }
+        self.pending.clear();
     }
 
     /// Samples added in this interval.
@@ -95,12 +147,14 @@ impl MomentSums {
         self.count
     }
 
-    /// Mean specific force in n over the interval (m/s^2), `Σ C_k dv_k / T`.
+    /// Mean specific force in n over the interval (m/s^2), `Σ C_k dv_k / T` (after
+    /// [`MomentSums::flush`]).
     pub(crate) fn mean_specific_force_ned(&self) -> Vec3 {
         (self.vector(0, 0, 3) + self.vector(0, 1, 4) + self.vector(0, 2, 5)) / self.interval_s
     }
 
-    /// The 9 x `n_params` block `Φ_np = M_0 + F M_1 + F² M_2` for navigation matrix `f`.
+    /// The 9 x `n_params` block `Φ_np = M_0 + F M_1 + F² M_2` for navigation matrix `f` (after
+    /// [`MomentSums::flush`]).
     pub(crate) fn phi_np(&self, f: &Mat9, n_params: usize) -> Mat<f64> {
         let m: Vec<Mat<f64>> = (0..N_MOMENTS)
             .map(|n| self.input_block(n, n_params))
@@ -116,6 +170,7 @@ impl MomentSums {
 
     /// The navigation-frame 3-vector of moment `n`, column `i`, input `j`.
     fn vector(&self, n: usize, i: usize, j: usize) -> Vec3 {
+        debug_assert!(self.pending.is_empty(), "sums read before flush");
         let s = &self.sums[n][i];
         Vec3::new(s[0][j], s[1][j], s[2][j])
     }
@@ -137,34 +192,40 @@ impl MomentSums {
     }
 }
 
-/// `sums[n][i][r] += (C[r, i] w[n]) u` for every moment, column and component, a whole SIMD
-/// vector of inputs at a time: each lane does the scalar multiply and add, so the sums are the
-/// scalar loop's to the bit whatever the vector width.
-struct Accumulate<'a> {
-    sums: &'a mut Sums,
-    c_mid: &'a Mat3,
-    w: [f64; N_MOMENTS],
-    u: &'a [f64; N_LANES],
+/// [`MomentSums::flush`] in four lanes: for each group of [`ROW_GROUP`] rows, its sums in
+/// registers while every held sample adds `c u` to them (one multiply and one add per lane).
+struct Flush<'a> {
+    rows: &'a mut [[f64; N_LANES]],
+    pending: &'a [Pending],
+    s: Token,
 }
 
-impl pulp::WithSimd for Accumulate<'_> {
+impl pulp::WithSimd for Flush<'_> {
     type Output = ();
 
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, simd: S) {
-        let (u, u_tail) = S::as_simd_f64s(self.u);
-        for (sums_n, wn) in self.sums.iter_mut().zip(self.w) {
-            for (i, sums_i) in sums_n.iter_mut().enumerate() {
-                for (r, row) in sums_i.iter_mut().enumerate() {
-                    let c = self.c_mid[(r, i)] * wn;
-                    let cv = simd.splat_f64s(c);
-                    let (acc, acc_tail) = S::as_mut_simd_f64s(row);
-                    for (a, uj) in acc.iter_mut().zip(u) {
-                        *a = simd.add_f64s(*a, simd.mul_f64s(cv, *uj));
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let s = self.s;
+        let load = |x: &[f64]| F4 {
+            v: f64x4(x[0], x[1], x[2], x[3]),
+            s,
+        };
+        for (g, group) in self.rows.chunks_exact_mut(ROW_GROUP).enumerate() {
+            let mut acc: [[F4; 4]; ROW_GROUP] =
+                std::array::from_fn(|k| std::array::from_fn(|q| load(&group[k][4 * q..])));
+            for p in self.pending {
+                for (k, a) in acc.iter_mut().enumerate() {
+                    let c = F4::splat(s, p.cw[g * ROW_GROUP + k]);
+                    // The inputs are loaded where used (not held: registers for the sums).
+                    for (q, aq) in a.iter_mut().enumerate() {
+                        *aq = *aq + c * load(&p.u[4 * q..]);
                     }
-                    for (a, uj) in acc_tail.iter_mut().zip(u_tail) {
-                        *a += c * uj;
-                    }
+                }
+            }
+            for (row, a) in group.iter_mut().zip(acc) {
+                for (q, aq) in a.iter().enumerate() {
+                    let f64x4(x0, x1, x2, x3) = aq.v;
+                    row[4 * q..4 * q + 4].copy_from_slice(&[x0, x1, x2, x3]);
                 }
             }
         }
@@ -196,6 +257,10 @@ mod tests {
             let dv = Vec3::new(0.01 * (0.3 * x).cos(), -0.02, 0.049);
             let temp = [1.5 + 0.01 * x, -2.0, 3.0 - 0.02 * x];
             sums.add(&c, &dth, &dv, &temp);
+            if k % 37 == 0 {
+                // Flushes at odd places as well as every FLUSH_EVERY samples.
+                sums.flush();
+            }
             let tau = t - (x + 0.5) * h;
             let mut u = [0.0; N_INPUTS];
             u[0..3].copy_from_slice(dth.as_slice());
@@ -216,6 +281,7 @@ mod tests {
                 }
             }
         }
+        sums.flush();
         for n in 0..N_MOMENTS {
             for i in 0..3 {
                 for r in 0..3 {
@@ -255,12 +321,14 @@ mod tests {
             sums.add(&c, &dth, &dv, &temp);
             let mut one = MomentSums::new(h, h, true);
             one.add(&c, &dth, &dv, &temp);
+            one.flush();
             let g = one.input_block(0, 33);
             let g = nalgebra::DMatrix::from_fn(9, 33, |i, j| g[(i, j)]);
             let step_d = nalgebra::DMatrix::from_fn(9, 9, |i, j| step[(i, j)]);
             let half_d = nalgebra::DMatrix::from_fn(9, 9, |i, j| half[(i, j)]);
             brute = &step_d * &brute + &half_d * g;
         }
+        sums.flush();
         let fast = sums.phi_np(&f, 33);
         let mut worst: f64 = 0.0;
         for j in 0..33 {
