@@ -16,6 +16,8 @@ use sins_sim::{NoiseModel, Scenario, Simulator};
 
 /// Samples per simulator batch (bounded memory: ~2 MB of samples).
 const SIM_BATCH: usize = 16_384;
+/// Samples of a batch that every replay of [`MultiReplay`] takes before the next slice (320 kB).
+const REPLAY_SLICE: usize = 4096;
 
 /// A named parameter set to replay with.
 #[derive(Clone, Debug)]
@@ -133,14 +135,20 @@ impl MultiReplay {
         samples: &[ImuSample],
         segments: Option<&[u16]>,
     ) -> Result<(), HarnessError> {
-        for (key, replay) in &mut self.replays {
-            replay
-                .push_batch(samples, segments)
-                .map_err(|source| HarnessError::Replay {
-                    run: self.run.clone(),
-                    set: key.clone(),
-                    source,
-                })?;
+        // A slice of the batch at a time to every replay, so that it stays in the core's
+        // cache while each replay takes it (each replay still takes its samples in order).
+        for start in (0..samples.len()).step_by(REPLAY_SLICE) {
+            let end = (start + REPLAY_SLICE).min(samples.len());
+            let segments = segments.map(|g| &g[start.min(g.len())..end.min(g.len())]);
+            for (key, replay) in &mut self.replays {
+                replay
+                    .push_batch(&samples[start..end], segments)
+                    .map_err(|source| HarnessError::Replay {
+                        run: self.run.clone(),
+                        set: key.clone(),
+                        source,
+                    })?;
+            }
         }
         for s in samples {
             for (acc, t) in self.temp_sum.iter_mut().zip(s.temp_degc) {
