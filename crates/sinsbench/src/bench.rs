@@ -265,7 +265,6 @@ fn gap_set(dir: &Path, exp: &Path) -> Result<()> {
     Ok(())
 }
 
-/// `diagnose` on calibration run `cal` and `nav_dir`'s nav1-nav3 under `params`, into `out`.
 /// `sinsbench calibrate` of dataset `cal` with the 42-state filter into `out`.
 fn calibrate_42(cal: &Path, out: &Path) -> Result<Measured> {
     child(&[
@@ -279,6 +278,7 @@ fn calibrate_42(cal: &Path, out: &Path) -> Result<Measured> {
     ])
 }
 
+/// `diagnose` on calibration run `cal` and `nav_dir`'s nav1-nav3 under `params`, into `out`.
 fn diagnose_set(cal: &Path, nav_dir: &Path, params: &Path, out: &Path) -> Result<Measured> {
     let mut args = vec!["diagnose".to_string()];
     let runs = ["nav1", "nav2", "nav3"].map(|n| (n, nav_dir.join(format!("{n}.parquet"))));
