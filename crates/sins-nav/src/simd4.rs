@@ -228,7 +228,7 @@ impl V4 {
     /// nalgebra's `norm_squared` for a 3-vector: `x² + y² + z²`, left to right.
     #[inline(always)]
     pub fn norm_squared(&self) -> F4 {
-        self.x * self.x + self.y * self.y + self.z * self.z
+        self.dot(self)
     }
 
     /// Each lane's vector times that lane's scalar.

@@ -4,20 +4,14 @@
 //! the bit.
 
 use crate::common::*;
-use sins_imu::{ImuErrorParams, ImuSample, ParamModel};
+use sins_imu::{ImuErrorParams, ImuSample};
 use sins_kf::{CalibrationConfig, CalibrationError, CalibrationFilter, SharedGain};
 use sins_nav::UG;
 use sins_sim::Simulator;
 
-/// The first three segments of the paper's calibration run with a 300 s alignment (about
-/// 190,000 samples), and the filter configuration for it.
+/// The samples of [`short_run_setup`]'s run, its filter configuration and initial estimate.
 fn short_run() -> (Vec<ImuSample>, CalibrationConfig, ImuErrorParams) {
-    let mut sc = paper_scenario();
-    sc.motion.segments.truncate(3);
-    let mut config = config_for(&sc, ParamModel::States42);
-    config.alignment.duration_s = 300.0;
-    let mut initial = ImuErrorParams::ideal(ParamModel::States42);
-    initial.reference_temperature_degc = sc.truth.reference_temperature_degc;
+    let (sc, config, initial) = short_run_setup();
     let mut sim = Simulator::from_scenario(&sc).expect("scenario");
     let mut xs = Vec::new();
     sim.run(65_536, |b| {

@@ -97,12 +97,7 @@ fn a_follower_reproduces_its_leader_and_a_filter_of_its_own() {
 
 #[test]
 fn a_follower_without_its_leaders_gains_refuses() {
-    let mut sc = paper_scenario();
-    sc.motion.segments.truncate(3);
-    let mut config = config_for(&sc, ParamModel::States42);
-    config.alignment.duration_s = 300.0;
-    let mut initial = ImuErrorParams::ideal(ParamModel::States42);
-    initial.reference_temperature_degc = sc.truth.reference_temperature_degc;
+    let (sc, config, initial) = short_run_setup();
     let mut follower = CalibrationFilter::new(config, initial)
         .expect("configuration")
         .following();

@@ -46,6 +46,19 @@ pub fn config_for(sc: &Scenario, model: ParamModel) -> CalibrationConfig {
     c
 }
 
+/// The first three segments of the paper's calibration run with a 300 s alignment (about
+/// 190,000 samples), the 42-state configuration for it and an ideal initial estimate at the
+/// run's reference temperature.
+pub fn short_run_setup() -> (Scenario, CalibrationConfig, ImuErrorParams) {
+    let mut sc = paper_scenario();
+    sc.motion.segments.truncate(3);
+    let mut config = config_for(&sc, ParamModel::States42);
+    config.alignment.duration_s = 300.0;
+    let mut initial = ImuErrorParams::ideal(ParamModel::States42);
+    initial.reference_temperature_degc = sc.truth.reference_temperature_degc;
+    (sc, config, initial)
+}
+
 /// Simulate `sc` and calibrate it; returns the result and the time spent inside the filter.
 pub fn run(
     sc: &Scenario,
