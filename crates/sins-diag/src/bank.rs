@@ -32,8 +32,8 @@ struct BinSamples {
     half_w2_s2: Vec<f64>,
     /// An effect column's perturbations of these samples (rad, m/s).
     perturbations: Vec<(Vec3, Vec3)>,
-    /// A coefficient column's scalars of these samples (the lanes).
-    values: Vec<f64>,
+    /// The scalars of these samples of each coefficient column of a group (the lanes).
+    values: [Vec<f64>; lanes::PARAM_GROUP],
 }
 
 impl BinSamples {
@@ -308,7 +308,14 @@ mod tests {
                     dtemp_degc: temp.map(|x| x - 20.0),
                     ctx,
                 };
-                (inputs, q.to_rotation_matrix().into_inner())
+                // Attitudes with exact zeros (+0.0 and -0.0) now and then: a zero lane of
+                // `c_j v_j` must give the full product's moments.
+                let c = match k % 9 {
+                    0 => Mat3::identity(),
+                    4 => Mat3::new(-1.0, -0.0, 0.0, 0.0, -1.0, -0.0, -0.0, 0.0, 1.0),
+                    _ => q.to_rotation_matrix().into_inner(),
+                };
+                (inputs, c)
             })
             .collect()
     }

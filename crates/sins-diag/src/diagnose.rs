@@ -32,7 +32,7 @@ use crate::report::{ChiSquareTest, Diagnosis, Note, NoteKind, RunLocalisation};
 use crate::sensitivity::RunSensitivity;
 use crate::stacked::Stacked;
 use crate::timelocal::{Located, leader, ranked_without_events, scan_runs, time_local_events};
-use crate::twin::{calibration_absorption, sensitivities};
+use crate::twin::{fold_absorption, twin_passes};
 use crate::unresolved::{add_unresolved_walks, leader_contribution, widen_envelopes};
 use crate::winner::winner_series;
 use sins_imu::EffectKind;
@@ -92,9 +92,9 @@ fn twin_stage(
     notes: &mut Vec<Note>,
 ) -> Result<Twin, DiagError> {
     let kinds = cfg.candidate_kinds().map_err(|e| DiagError::input("", e))?;
-    let mut sens = sensitivities(input, cfg, &kinds)?;
     let cat = catalogue(&kinds);
-    let absorption = calibration_absorption(input, cfg, &cat.layouts, &mut sens, notes)?;
+    let (mut sens, absorption) = twin_passes(input, cfg, &kinds, &cat.layouts)?;
+    fold_absorption(input, absorption.as_ref(), &mut sens, notes);
     let pu = uncertainty(
         &input.params,
         input.param_sigma.as_ref(),

@@ -24,6 +24,11 @@ pub trait SampleSource: Send {
     /// beginning. Stops at the first error of the sink or of the source (mapped to
     /// [`DiagError::Source`]) and returns it.
     fn visit(&mut self, sink: &mut BatchSink<'_>) -> Result<(), DiagError>;
+    /// An independent source of the same samples, so that a second pass can read the run
+    /// while another one does (`None`, the default: the source is read by one pass at a time).
+    fn try_clone(&self) -> Option<Box<dyn SampleSource>> {
+        None
+    }
 }
 
 /// Samples held in memory (for short data and tests).
@@ -55,6 +60,10 @@ impl SampleSource for MemorySource {
             sink(s, g)?;
         }
         Ok(())
+    }
+
+    fn try_clone(&self) -> Option<Box<dyn SampleSource>> {
+        Some(Box::new(self.clone()))
     }
 }
 

@@ -61,31 +61,78 @@ pub(crate) fn sensitivities(
     })
 }
 
-/// The calibration run's absorption of every deterministic candidate, folded into the
-/// candidate columns of every run (none without a calibration run among the inputs).
-pub(crate) fn calibration_absorption(
+/// The sensitivities of every run ([`sensitivities`]) and the calibration run's absorption of
+/// every deterministic candidate of `layouts` (none without a calibration run among the
+/// inputs). With two or more threads and a calibration run whose source reads twice at once,
+/// the recalibrations run beside the passes: the passes of runs of unequal length leave a core
+/// idle, and both read the runs as they are, so the results are those of one after the other.
+pub(crate) fn twin_passes(
     input: &mut DiagnosisInput,
     cfg: &DiagnoseConfig,
+    kinds: &[EffectKind],
     layouts: &[Layout],
+) -> Result<(Vec<RunSensitivity>, Option<Absorption>), DiagError> {
+    let Some(name) = input.calibration_run.clone() else {
+        return Ok((sensitivities(input, cfg, kinds)?, None));
+    };
+    let (params, noise) = (input.params, input.noise);
+    let comps = components(layouts);
+    let beside = match cfg.threads >= 2 {
+        true => CalibrationRun::among(&mut input.runs, &name)
+            .ok()
+            .and_then(|c| Some((c.source.try_clone()?, *c.site, c.temps.clone()))),
+        false => None,
+    };
+    let Some((mut source, site, temps)) = beside else {
+        let sens = sensitivities(input, cfg, kinds)?;
+        let cal = CalibrationRun::among(&mut input.runs, &name)?;
+        let a = absorption(cal, &params, &noise, &comps, cfg.threads)?;
+        return Ok((sens, Some(a)));
+    };
+    let cal = CalibrationRun {
+        run: &name,
+        source: source.as_mut(),
+        site: &site,
+        temps: &temps,
+    };
+    let (sens, a) = std::thread::scope(|scope| {
+        let worker = scope.spawn(|| absorption(cal, &params, &noise, &comps, cfg.threads));
+        let sens = sensitivities(input, cfg, kinds);
+        (sens, worker.join())
+    });
+    let a = a.map_err(|_| {
+        DiagError::Numerical("the calibration absorption stopped unexpectedly (a panic)".into())
+    });
+    // A failed pass is what running the passes first reports.
+    let sens = sens?;
+    Ok((sens, Some(a??)))
+}
+
+/// Every component of the candidates of `layouts`.
+fn components(layouts: &[Layout]) -> Vec<(EffectKind, usize)> {
+    layouts
+        .iter()
+        .flat_map(|l| (0..l.n).map(move |c| (l.kind, c)))
+        .collect()
+}
+
+/// Fold the calibration run's absorption `a` ([`twin_passes`]) into the candidate columns of
+/// every run, and say what it did.
+pub(crate) fn fold_absorption(
+    input: &DiagnosisInput,
+    a: Option<&Absorption>,
     sens: &mut [RunSensitivity],
     notes: &mut Vec<Note>,
-) -> Result<Option<Absorption>, DiagError> {
-    let Some(name) = input.calibration_run.clone() else {
+) {
+    let Some(a) = a else {
         notes.push(Note::new(
             NoteKind::CalibrationAbsorption,
             "no calibration run among the inputs: the candidates act on the navigation only, \
              not through the coefficients a calibration in their presence would have biased",
         ));
-        return Ok(None);
+        return;
     };
-    let params = input.params;
-    let noise = input.noise;
-    let comps: Vec<(EffectKind, usize)> = layouts
-        .iter()
-        .flat_map(|l| (0..l.n).map(move |c| (l.kind, c)))
-        .collect();
-    let cal = CalibrationRun::among(&mut input.runs, &name)?;
-    let a = absorption(cal, &params, &noise, &comps, cfg.threads)?;
+    let (name, params, comps) = (&a.run, input.params, &a.components);
     for s in sens.iter_mut() {
         a.fold(s, None);
     }
@@ -118,5 +165,4 @@ pub(crate) fn calibration_absorption(
         note = note.figure("recalibration_sigma", w);
     }
     notes.push(note);
-    Ok(Some(a))
 }

@@ -7,6 +7,7 @@ use sins_diag::source::{BatchSink, SampleSource};
 use std::path::PathBuf;
 
 /// A dataset in the project's format (Parquet or CSV).
+#[derive(Clone)]
 pub struct DatasetSource {
     path: PathBuf,
     info: DatasetInfo,
@@ -53,5 +54,9 @@ impl SampleSource for DatasetSource {
             }
         }
         Ok(())
+    }
+
+    fn try_clone(&self) -> Option<Box<dyn SampleSource>> {
+        Some(Box::new(self.clone()))
     }
 }

@@ -3,9 +3,12 @@
 //! registers over the bin. Every lane does the scalar code's multiplies and adds in the scalar
 //! code's order ([`sins_nav::simd4`]: never fused), and the accelerometer's down component and
 //! the padding lanes are never written back, so the moments are the scalar path's to the bit.
+//! Coefficient columns go through the bin a few at a time ([`PARAM_GROUP`]), and an effect
+//! column whose perturbations of a bin lie along one body axis takes one product per sample
+//! instead of the rotation's three (see [`add_triad`]).
 
 use super::BinSamples;
-use crate::columns::{ColumnEval, Triad};
+use crate::columns::{ColumnEval, ParamSlot, Triad};
 use crate::model::Moments;
 use pulp::f64x4;
 use sins_nav::Vec3;
@@ -69,6 +72,140 @@ fn add(m: &mut [F4; 3], u: F4, w: F4, hw2: F4) {
     m[2] = m[2] + u * hw2;
 }
 
+/// Coefficient columns taken together over the bin: each keeps its own accumulators, so
+/// their additions, a chain of dependent adds per column, overlap in the core instead of
+/// waiting on each other; each column still adds its samples in time order.
+pub(super) const PARAM_GROUP: usize = 3;
+const _: () = assert!(PARAM_GROUP >= 1 && PARAM_GROUP <= 4);
+
+/// The first `N` of a group's slots (`slots` holds at least `N`).
+fn group<'p, const N: usize>(slots: &[&'p ParamSlot]) -> [&'p ParamSlot; N] {
+    std::array::from_fn(|c| slots[c])
+}
+
+/// The bin's attitude columns, times before the bin end and `w²/2`, as lanes.
+struct BinLanes<'b> {
+    /// Column j of every sample's C_nb, padded to four lanes.
+    cols: &'b [Vec<F4>; 3],
+    /// Time of each sample before the bin end (s).
+    w: &'b [F4],
+    /// Half its square (s²).
+    hw2: &'b [F4],
+}
+
+/// Add `N` coefficient columns' bins to their moments `mom`, the scalars of column c in
+/// `values[c]`.
+#[inline(always)]
+fn add_params<const N: usize>(
+    s: Token,
+    slots: [&ParamSlot; N],
+    mom: &mut [Moments],
+    values: &[Vec<f64>],
+    b: &BinLanes<'_>,
+) {
+    let n = b.w.len();
+    let mut acc: [Acc; N] = std::array::from_fn(|c| Acc::load(s, &mom[c]));
+    let mut parts: [[F4; 3]; N] = std::array::from_fn(|c| match slots[c].triad {
+        Triad::Gyro => acc[c].g,
+        Triad::Accel => acc[c].a,
+    });
+    let cols: [&[F4]; N] = std::array::from_fn(|c| &b.cols[slots[c].row][..n]);
+    let vals: [&[f64]; N] = std::array::from_fn(|c| &values[c][..n]);
+    let (w, hw2) = (&b.w[..n], &b.hw2[..n]);
+    for k in 0..n {
+        for c in 0..N {
+            add(&mut parts[c], cols[c][k] * vals[c][k], w[k], hw2[k]);
+        }
+    }
+    for c in 0..N {
+        match slots[c].triad {
+            Triad::Gyro => acc[c].g = parts[c],
+            Triad::Accel => acc[c].a = parts[c],
+        }
+        acc[c].store(&mut mom[c]);
+    }
+}
+
+/// How one triad's perturbations of a bin spread over the body axes.
+#[derive(Clone, Copy, PartialEq)]
+enum Shape {
+    /// Every sample's perturbation is zero: nothing to add.
+    Zero,
+    /// Only this axis's component is ever other than +0.0 (in bits).
+    Axis(usize),
+    /// Anything else.
+    Full,
+}
+
+/// The shape of one triad's perturbations from the OR of each component's bits over them.
+fn shape(bits: [u64; 3]) -> Shape {
+    match bits.map(|b| b != 0) {
+        [false, false, false] => Shape::Zero,
+        [true, false, false] => Shape::Axis(0),
+        [false, true, false] => Shape::Axis(1),
+        [false, false, true] => Shape::Axis(2),
+        _ => Shape::Full,
+    }
+}
+
+/// Add one triad's perturbations (`triad` picks them out of `perturbations`) of a bin to its
+/// moments `m`, resolved in NED; `shape` is theirs.
+///
+/// A perturbation along body axis `j` only (the others +0.0) is resolved as `c_j v_j`, with
+/// the moments of the full product `(c_0 v_0 + c_1 v_1) + c_2 v_2` to the bit: adding the two
+/// zero products leaves a non-zero lane as it is, and can change only the sign of a zero one;
+/// that sign never reaches a moment, because a moment starts at +0.0 and a rounded sum is -0.0
+/// only when both terms are, so a moment is never -0.0, and it takes +0.0 and -0.0 alike.
+#[inline(always)]
+fn add_triad(
+    s: Token,
+    m: &mut [F4; 3],
+    perturbations: &[(Vec3, Vec3)],
+    triad: impl Fn(&(Vec3, Vec3)) -> &Vec3,
+    shape: Shape,
+    b: &BinLanes<'_>,
+) {
+    let times = b.w.iter().zip(b.hw2);
+    match shape {
+        Shape::Zero => {}
+        Shape::Axis(j) => {
+            for ((p, c), (&w, &hw2)) in perturbations.iter().zip(&b.cols[j]).zip(times) {
+                let v = triad(p)[j];
+                if v != 0.0 {
+                    add(m, *c * F4::splat(s, v), w, hw2);
+                }
+            }
+        }
+        Shape::Full => {
+            let cols = b.cols[0].iter().zip(&b.cols[1]).zip(&b.cols[2]);
+            for ((p, ((c0, c1), c2)), (&w, &hw2)) in perturbations.iter().zip(cols).zip(times) {
+                let v = triad(p);
+                if *v != Vec3::zeros() {
+                    // nalgebra's C v: (c0 v0 + c1 v1) + c2 v2, component by component.
+                    add(m, *c0 * v.x + *c1 * v.y + *c2 * v.z, w, hw2);
+                }
+            }
+        }
+    }
+}
+
+/// Add an effect column's bin (its perturbations in `bin.perturbations`) to its moments.
+#[inline(always)]
+fn add_effect(s: Token, m: &mut Moments, perturbations: &[(Vec3, Vec3)], b: &BinLanes<'_>) {
+    let (mut g, mut a) = ([0u64; 3], [0u64; 3]);
+    for (dtheta, dv) in perturbations {
+        for i in 0..3 {
+            g[i] |= dtheta[i].to_bits();
+            a[i] |= dv[i].to_bits();
+        }
+    }
+    let (g, a) = (shape(g), shape(a));
+    let mut acc = Acc::load(s, m);
+    add_triad(s, &mut acc.g, perturbations, |p| &p.0, g, b);
+    add_triad(s, &mut acc.a, perturbations, |p| &p.1, a, b);
+    acc.store(m);
+}
+
 impl pulp::WithSimd for AddBin<'_> {
     type Output = ();
 
@@ -77,7 +214,6 @@ impl pulp::WithSimd for AddBin<'_> {
         let s = self.s;
         let bin = self.bin;
         let lanes = |x: f64| F4::splat(s, x);
-        // Column j of every sample's C_nb, padded to four lanes.
         let cols: [Vec<F4>; 3] = std::array::from_fn(|j| {
             bin.c_nb
                 .iter()
@@ -89,37 +225,40 @@ impl pulp::WithSimd for AddBin<'_> {
         });
         let w: Vec<F4> = bin.w_s.iter().map(|&x| lanes(x)).collect();
         let hw2: Vec<F4> = bin.half_w2_s2.iter().map(|&x| lanes(x)).collect();
-        for (e, m) in self.evals.iter_mut().zip(self.mom.iter_mut()) {
-            let mut acc = Acc::load(s, m);
-            match e {
-                ColumnEval::Param(p) => {
-                    let part = match p.triad {
-                        Triad::Gyro => &mut acc.g,
-                        Triad::Accel => &mut acc.a,
-                    };
-                    p.scalars(&bin.inputs, &mut bin.values);
-                    let col = &cols[p.row];
-                    for (((c, &v), &w), &hw2) in col.iter().zip(&bin.values).zip(&w).zip(&hw2) {
-                        add(part, *c * v, w, hw2);
-                    }
-                }
-                ColumnEval::Effect(effect) => {
-                    effect.perturbations(&bin.ctxs, &mut bin.perturbations);
-                    let samples = bin.perturbations.iter().zip(&w).zip(&hw2);
-                    for (k, (((dtheta, dv), &w), &hw2)) in samples.enumerate() {
-                        let c = [cols[0][k], cols[1][k], cols[2][k]];
-                        // nalgebra's C v: (c0 v0 + c1 v1) + c2 v2, component by component.
-                        let rotate = |v: &Vec3| c[0] * v.x + c[1] * v.y + c[2] * v.z;
-                        if *dtheta != Vec3::zeros() {
-                            add(&mut acc.g, rotate(dtheta), w, hw2);
-                        }
-                        if *dv != Vec3::zeros() {
-                            add(&mut acc.a, rotate(dv), w, hw2);
-                        }
-                    }
-                }
+        let b = BinLanes {
+            cols: &cols,
+            w: &w,
+            hw2: &hw2,
+        };
+        let (evals, mom) = (self.evals, self.mom);
+        let mut i = 0;
+        while i < evals.len() {
+            if let ColumnEval::Effect(effect) = &mut evals[i] {
+                effect.perturbations(&bin.ctxs, &mut bin.perturbations);
+                add_effect(s, &mut mom[i], &bin.perturbations, &b);
+                i += 1;
+                continue;
             }
-            acc.store(m);
+            // A run of up to PARAM_GROUP coefficient columns.
+            let mut slots = Vec::with_capacity(PARAM_GROUP);
+            while let Some(ColumnEval::Param(p)) = evals.get(i + slots.len()) {
+                if slots.len() == PARAM_GROUP {
+                    break;
+                }
+                slots.push(p);
+            }
+            for (p, v) in slots.iter().zip(&mut bin.values) {
+                p.scalars(&bin.inputs, v);
+            }
+            let m = &mut mom[i..i + slots.len()];
+            let v = &bin.values;
+            match slots.len() {
+                1 => add_params::<1>(s, group(&slots), m, v, &b),
+                2 => add_params::<2>(s, group(&slots), m, v, &b),
+                3 => add_params::<3>(s, group(&slots), m, v, &b),
+                _ => add_params::<4>(s, group(&slots), m, v, &b),
+            }
+            i += slots.len();
         }
     }
 }

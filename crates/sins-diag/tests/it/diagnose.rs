@@ -189,3 +189,58 @@ fn the_diagnosis_does_not_depend_on_the_thread_count() {
     assert!(json[0].contains("gyro_bias_temp"));
     assert!(json[0] == json[1] && json[1] == json[2]);
 }
+
+/// With a calibration run among the runs and two or more threads, the calibration run's
+/// recalibrations run beside the sensitivity passes, on a second reader of the run: the
+/// diagnosis is the one-thread diagnosis, bit for bit.
+#[test]
+fn the_recalibrations_beside_the_passes_change_no_bit() {
+    use sins_diag::source::MemorySource;
+    let exp = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../experiments/paper_truth_calibration.toml");
+    let mut cal = sins_config::load_experiment(&exp)
+        .expect("experiment")
+        .scenarios[0]
+        .clone();
+    // 50 Hz keeps the run held in memory small; the filter takes any rate.
+    cal.rate_hz = 50.0;
+    let truth = cal.truth;
+    let mut nav = scenario(turning_motion(1.5), 50.0, ramp_thermal(15.0, 6.0, 1.5));
+    nav.noise = paper_noise();
+    nav.truth = truth;
+    let json: Vec<String> = [1, 2]
+        .into_iter()
+        .map(|threads| {
+            let mut inp = input(&[cal.clone(), nav.clone()], &truth, None);
+            // In memory, the calibration run reads twice at once.
+            let mut samples = Vec::new();
+            let mut segments = Vec::new();
+            inp.runs[0]
+                .source
+                .visit(&mut |s, g| {
+                    samples.extend_from_slice(s);
+                    segments.extend_from_slice(g);
+                    Ok(())
+                })
+                .expect("samples");
+            let h = inp.runs[0].source.sample_interval_s();
+            inp.runs[0].source = Box::new(MemorySource {
+                samples,
+                segments,
+                sample_interval_s: h,
+            });
+            inp.calibration_run = Some(inp.runs[0].name.clone());
+            let cfg = DiagnoseConfig {
+                threads,
+                ..DiagnoseConfig::default()
+            };
+            let d = diagnose(&mut inp, &cfg).expect("diagnosis");
+            serde_json::to_string(&d).expect("json")
+        })
+        .collect();
+    assert!(
+        json[0].contains("calibration absorption: run"),
+        "no absorption"
+    );
+    assert!(json[0] == json[1]);
+}

@@ -35,6 +35,26 @@ impl ExtraEffect for SizeEffect {
             dv[j] += a[j] * ctx.dt_s;
         }
     }
+
+    /// [`Self::apply`] to zero increments, skipping the accelerometers at the centre: their
+    /// term is a zero (finite rates), which leaves the zero they start from as it is.
+    fn perturbations(&mut self, ctxs: &[EffectContext], out: &mut Vec<(Vec3, Vec3)>) {
+        out.clear();
+        let arms: Vec<(usize, Vec3)> = (self.lever_arm_m.iter().enumerate())
+            .filter(|(_, r)| **r != Vec3::zeros())
+            .map(|(j, r)| (j, *r))
+            .collect();
+        out.extend(ctxs.iter().map(|ctx| {
+            let w = ctx.mean_rate_radps();
+            let w_dot = ctx.angular_accel_radps2();
+            let mut dv = Vec3::zeros();
+            for &(j, r) in &arms {
+                let a = w_dot.cross(&r) + w.cross(&w.cross(&r));
+                dv[j] += a[j] * ctx.dt_s;
+            }
+            (Vec3::zeros(), dv)
+        }));
+    }
 }
 
 #[cfg(test)]

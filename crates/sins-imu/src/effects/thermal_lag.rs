@@ -26,6 +26,11 @@ pub struct ThermalLag {
     params: ImuErrorParams,
     /// `(t_s, T, T_s)` of the previous sample.
     state: Option<(f64, [f64; 3], [f64; 3])>,
+    /// `E_a(0)` of `params` (it does not change).
+    matrix_at_zero: Mat3,
+    /// Per axis, the last step (s) and its decay `exp(-step/τ)`: steps repeat, so the
+    /// exponential is mostly computed once.
+    decay: [(f64, f64); 3],
 }
 
 impl ThermalLag {
@@ -36,6 +41,8 @@ impl ThermalLag {
             tau_s,
             params: *truth,
             state: None,
+            matrix_at_zero: truth.accel_error_matrix(&[0.0; 3]),
+            decay: [(f64::NAN, f64::NAN); 3],
         }
     }
 
@@ -54,7 +61,10 @@ impl ThermalLag {
                         return temp[j];
                     }
                     let rate = (temp[j] - temp_prev[j]) / step;
-                    let decay = (-step / tau).exp();
+                    if self.decay[j].0.to_bits() != step.to_bits() {
+                        self.decay[j] = (step, (-step / tau).exp());
+                    }
+                    let decay = self.decay[j].1;
                     let particular = temp[j] - rate * tau;
                     let dev_prev = sensor_prev[j] - (temp_prev[j] - rate * tau);
                     particular + dev_prev * decay
@@ -78,7 +88,7 @@ impl ExtraEffect for ThermalLag {
         let tb = &p.temperature.bias_mps2_per_degc;
         let bias = Vec3::new(tb.x * d[0], tb.y * d[1], tb.z * d[2]);
         // The temperature part of E_a is linear in the offsets: E_a(d) - E_a(0).
-        let matrix: Mat3 = p.accel_error_matrix(&d) - p.accel_error_matrix(&[0.0; 3]);
+        let matrix: Mat3 = p.accel_error_matrix(&d) - self.matrix_at_zero;
         *dv += bias * ctx.dt_s + matrix * ctx.true_dv_mps;
     }
 
