@@ -164,6 +164,36 @@ impl ExtraEffect for BiasEvent {
             Sensor::Accel => *dv += self.magnitude * w,
         }
     }
+
+    /// [`Self::apply`] to zero increments, sample by sample, with the profile's integral at the
+    /// start of a sample taken from the sample before when the two times are the same number
+    /// (most are: `(t_k - h) - t_0` against `t_(k-1) - t_0`), so a transient's exponential is
+    /// mostly computed once per sample instead of twice.
+    fn perturbations(&mut self, ctxs: &[EffectContext], out: &mut Vec<(Vec3, Vec3)>) {
+        out.clear();
+        // The last end time's bits and the integral there.
+        let mut last: Option<(u64, f64)> = None;
+        out.extend(ctxs.iter().map(|ctx| {
+            let (mut dtheta, mut dv) = (Vec3::zeros(), Vec3::zeros());
+            let (u0, u1) = (ctx.t_s - ctx.dt_s - self.onset_s, ctx.t_s - self.onset_s);
+            if u1 <= 0.0 {
+                return (dtheta, dv);
+            }
+            let u0 = u0.max(0.0);
+            let i0 = match last {
+                Some((bits, integral)) if bits == u0.to_bits() => integral,
+                _ => self.shape.integral(u0),
+            };
+            let i1 = self.shape.integral(u1);
+            last = Some((u1.to_bits(), i1));
+            let w = i1 - i0;
+            match self.sensor {
+                Sensor::Gyro => dtheta += self.magnitude * w,
+                Sensor::Accel => dv += self.magnitude * w,
+            }
+            (dtheta, dv)
+        }));
+    }
 }
 
 #[cfg(test)]
