@@ -32,8 +32,8 @@ struct BinSamples {
     half_w2_s2: Vec<f64>,
     /// An effect column's perturbations of these samples (rad, m/s).
     perturbations: Vec<(Vec3, Vec3)>,
-    /// The scalars of these samples of each coefficient column of a group (the lanes).
-    values: [Vec<f64>; lanes::PARAM_GROUP],
+    /// A coefficient column's scalars of these samples (the lanes).
+    values: Vec<f64>,
 }
 
 impl BinSamples {

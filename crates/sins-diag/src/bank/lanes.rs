@@ -3,9 +3,8 @@
 //! registers over the bin. Every lane does the scalar code's multiplies and adds in the scalar
 //! code's order ([`sins_nav::simd4`]: never fused), and the accelerometer's down component and
 //! the padding lanes are never written back, so the moments are the scalar path's to the bit.
-//! Coefficient columns go through the bin a few at a time ([`PARAM_GROUP`]), and an effect
-//! column whose perturbations of a bin lie along one body axis takes one product per sample
-//! instead of the rotation's three (see [`add_triad`]).
+//! An effect column whose perturbations of a bin lie along one body axis takes one product per
+//! sample instead of the rotation's three (see [`add_triad`]).
 
 use super::BinSamples;
 use crate::columns::{ColumnEval, ParamSlot, Triad};
@@ -72,17 +71,6 @@ fn add(m: &mut [F4; 3], u: F4, w: F4, hw2: F4) {
     m[2] = m[2] + u * hw2;
 }
 
-/// Coefficient columns taken together over the bin: each keeps its own accumulators, so
-/// their additions, a chain of dependent adds per column, overlap in the core instead of
-/// waiting on each other; each column still adds its samples in time order.
-pub(super) const PARAM_GROUP: usize = 3;
-const _: () = assert!(PARAM_GROUP >= 1 && PARAM_GROUP <= 4);
-
-/// The first `N` of a group's slots (`slots` holds at least `N`).
-fn group<'p, const N: usize>(slots: &[&'p ParamSlot]) -> [&'p ParamSlot; N] {
-    std::array::from_fn(|c| slots[c])
-}
-
 /// The bin's attitude columns, times before the bin end and `w²/2`, as lanes.
 struct BinLanes<'b> {
     /// Column j of every sample's C_nb, padded to four lanes.
@@ -93,37 +81,19 @@ struct BinLanes<'b> {
     hw2: &'b [F4],
 }
 
-/// Add `N` coefficient columns' bins to their moments `mom`, the scalars of column c in
-/// `values[c]`.
+/// Add a coefficient column's bin to its moments `m`, its scalar of each sample in `values`.
 #[inline(always)]
-fn add_params<const N: usize>(
-    s: Token,
-    slots: [&ParamSlot; N],
-    mom: &mut [Moments],
-    values: &[Vec<f64>],
-    b: &BinLanes<'_>,
-) {
-    let n = b.w.len();
-    let mut acc: [Acc; N] = std::array::from_fn(|c| Acc::load(s, &mom[c]));
-    let mut parts: [[F4; 3]; N] = std::array::from_fn(|c| match slots[c].triad {
-        Triad::Gyro => acc[c].g,
-        Triad::Accel => acc[c].a,
-    });
-    let cols: [&[F4]; N] = std::array::from_fn(|c| &b.cols[slots[c].row][..n]);
-    let vals: [&[f64]; N] = std::array::from_fn(|c| &values[c][..n]);
-    let (w, hw2) = (&b.w[..n], &b.hw2[..n]);
-    for k in 0..n {
-        for c in 0..N {
-            add(&mut parts[c], cols[c][k] * vals[c][k], w[k], hw2[k]);
-        }
+fn add_param(s: Token, p: &ParamSlot, m: &mut Moments, values: &[f64], b: &BinLanes<'_>) {
+    let mut acc = Acc::load(s, m);
+    let part = match p.triad {
+        Triad::Gyro => &mut acc.g,
+        Triad::Accel => &mut acc.a,
+    };
+    let samples = b.cols[p.row].iter().zip(values).zip(b.w.iter().zip(b.hw2));
+    for ((c, &v), (&w, &hw2)) in samples {
+        add(part, *c * v, w, hw2);
     }
-    for c in 0..N {
-        match slots[c].triad {
-            Triad::Gyro => acc[c].g = parts[c],
-            Triad::Accel => acc[c].a = parts[c],
-        }
-        acc[c].store(&mut mom[c]);
-    }
+    acc.store(m);
 }
 
 /// How one triad's perturbations of a bin spread over the body axes.
@@ -230,35 +200,17 @@ impl pulp::WithSimd for AddBin<'_> {
             w: &w,
             hw2: &hw2,
         };
-        let (evals, mom) = (self.evals, self.mom);
-        let mut i = 0;
-        while i < evals.len() {
-            if let ColumnEval::Effect(effect) = &mut evals[i] {
-                effect.perturbations(&bin.ctxs, &mut bin.perturbations);
-                add_effect(s, &mut mom[i], &bin.perturbations, &b);
-                i += 1;
-                continue;
-            }
-            // A run of up to PARAM_GROUP coefficient columns.
-            let mut slots = Vec::with_capacity(PARAM_GROUP);
-            while let Some(ColumnEval::Param(p)) = evals.get(i + slots.len()) {
-                if slots.len() == PARAM_GROUP {
-                    break;
+        for (e, m) in self.evals.iter_mut().zip(self.mom.iter_mut()) {
+            match e {
+                ColumnEval::Param(p) => {
+                    p.scalars(&bin.inputs, &mut bin.values);
+                    add_param(s, p, m, &bin.values, &b);
                 }
-                slots.push(p);
+                ColumnEval::Effect(effect) => {
+                    effect.perturbations(&bin.ctxs, &mut bin.perturbations);
+                    add_effect(s, m, &bin.perturbations, &b);
+                }
             }
-            for (p, v) in slots.iter().zip(&mut bin.values) {
-                p.scalars(&bin.inputs, v);
-            }
-            let m = &mut mom[i..i + slots.len()];
-            let v = &bin.values;
-            match slots.len() {
-                1 => add_params::<1>(s, group(&slots), m, v, &b),
-                2 => add_params::<2>(s, group(&slots), m, v, &b),
-                3 => add_params::<3>(s, group(&slots), m, v, &b),
-                _ => add_params::<4>(s, group(&slots), m, v, &b),
-            }
-            i += slots.len();
         }
     }
 }

@@ -158,6 +158,16 @@ fn hidden_gyro_temperature_coefficient_is_identified_and_validated() {
     }
 }
 
+/// The diagnosis of `inp` with the default settings on `threads` workers, serialised.
+fn diagnosis_json(inp: &mut sins_diag::input::DiagnosisInput, threads: usize) -> String {
+    let cfg = DiagnoseConfig {
+        threads,
+        ..DiagnoseConfig::default()
+    };
+    let d = diagnose(inp, &cfg).expect("diagnosis");
+    serde_json::to_string(&d).expect("json")
+}
+
 /// Runs of different lengths are handed to the workers longest first: whatever the thread
 /// count, the diagnosis is bit-identical (serialised).
 #[test]
@@ -178,12 +188,7 @@ fn the_diagnosis_does_not_depend_on_the_thread_count() {
         .iter()
         .map(|&threads| {
             let mut inp = input(&scs, &truth, None);
-            let cfg = DiagnoseConfig {
-                threads,
-                ..DiagnoseConfig::default()
-            };
-            let d = diagnose(&mut inp, &cfg).expect("diagnosis");
-            serde_json::to_string(&d).expect("json")
+            diagnosis_json(&mut inp, threads)
         })
         .collect();
     assert!(json[0].contains("gyro_bias_temp"));
@@ -230,12 +235,7 @@ fn the_recalibrations_beside_the_passes_change_no_bit() {
                 sample_interval_s: h,
             });
             inp.calibration_run = Some(inp.runs[0].name.clone());
-            let cfg = DiagnoseConfig {
-                threads,
-                ..DiagnoseConfig::default()
-            };
-            let d = diagnose(&mut inp, &cfg).expect("diagnosis");
-            serde_json::to_string(&d).expect("json")
+            diagnosis_json(&mut inp, threads)
         })
         .collect();
     assert!(
