@@ -59,4 +59,7 @@ pub enum HarnessError {
     /// The data and the parameter set do not fit together.
     #[error("{0}")]
     Mismatch(String),
+    /// A worker thread could not be started (the system's thread limit).
+    #[error("cannot start a worker thread: {0}")]
+    Thread(std::io::Error),
 }

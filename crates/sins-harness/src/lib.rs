@@ -4,6 +4,7 @@
 pub mod baseline;
 pub mod config;
 mod error;
+pub mod feed;
 pub mod gate;
 pub mod gate_power;
 pub mod parallel;

@@ -4,6 +4,7 @@
 //! [`MultiReplay`] batch by batch exactly as the simulator does.
 
 use crate::HarnessError;
+use crate::feed::{Consumer, feed};
 use crate::segments::{SegmentStretch, stretches};
 use sins_imu::{ImuErrorParams, ImuSample, ParamModel};
 use sins_kf::{
@@ -12,7 +13,7 @@ use sins_kf::{
 use sins_nav::{Geodetic, Quat};
 use sins_replay::setup::{ReplayOptions, build_replay};
 use sins_replay::{ErrorPoint, Replay, ReplayError, ReplaySummary};
-use sins_sim::{NoiseModel, Scenario, Simulator};
+use sins_sim::{NoiseModel, Scenario, SimBatch, Simulator};
 
 /// Samples per simulator batch (bounded memory: ~2 MB of samples).
 const SIM_BATCH: usize = 16_384;
@@ -198,11 +199,14 @@ impl MultiReplay {
 }
 
 /// Simulate `scenario` and replay it under every parameter set in one pass, without files.
-/// `progress` is called with the number of samples done after each batch.
+/// With `threads` ≥ 2 the simulator runs on a thread of its own beside the replays (the same
+/// batches in the same order: the outcome does not depend on `threads`). `progress` is called
+/// with the number of samples done after each batch.
 pub fn simulate_and_replay(
     scenario: &Scenario,
     sets: &[NamedParams],
     options: &ReplayOptions,
+    threads: usize,
     progress: &mut dyn FnMut(u64),
 ) -> Result<RunOutcome, HarnessError> {
     let sim_err = |source| HarnessError::Simulation {
@@ -221,17 +225,16 @@ pub fn simulate_and_replay(
         options,
     )?;
     let mut labels_buf: Vec<u16> = Vec::with_capacity(SIM_BATCH);
-    sim.run(SIM_BATCH, |b| {
+    let replays: Consumer<'_> = Box::new(|b: &SimBatch| {
         labels_buf.clear();
         labels_buf.extend(
             b.segment_index
                 .iter()
                 .map(|&s| label_of_segment.get(s as usize).copied().unwrap_or(0)),
         );
-        multi.push_batch(&b.samples, Some(&labels_buf))?;
-        progress(b.len() as u64);
-        Ok::<(), HarnessError>(())
-    })?;
+        multi.push_batch(&b.samples, Some(&labels_buf))
+    });
+    feed(&mut sim, SIM_BATCH, threads, &mut [replays], progress)?;
     let mut outcome = multi.finish()?;
     let mut cursor = 0usize;
     let truth = outcome
@@ -275,12 +278,14 @@ pub fn calibration_filter(
 
 /// Simulate a calibration run once and calibrate it with one filter per entry of `models`
 /// (30- and/or 42-state), without files. The filters' noise is the scenario's noise model; the
-/// temperature terms are referred to `reference_temperature_degc`. Results in the order of
-/// `models`.
+/// temperature terms are referred to `reference_temperature_degc`. With `threads` ≥ 2 the
+/// simulator and each filter run on threads of their own (same batches, same order: the results
+/// do not depend on `threads`). Results in the order of `models`.
 pub fn simulate_and_calibrate(
     scenario: &Scenario,
     models: &[ParamModel],
     reference_temperature_degc: f64,
+    threads: usize,
     progress: &mut dyn FnMut(u64),
 ) -> Result<Vec<CalibrationResult>, HarnessError> {
     let cal_err = |model: ParamModel| {
@@ -308,15 +313,16 @@ pub fn simulate_and_calibrate(
         .map_err(cal_err(model))?;
         filters.push((model, filter));
     }
-    sim.run(SIM_BATCH, |b| {
-        for (model, filter) in &mut filters {
-            filter
-                .push_batch(&b.samples, None)
-                .map_err(cal_err(*model))?;
-        }
-        progress(b.len() as u64);
-        Ok::<(), HarnessError>(())
-    })?;
+    let mut consumers: Vec<Consumer<'_>> = filters
+        .iter_mut()
+        .map(|(model, filter)| {
+            let err = cal_err(*model);
+            Box::new(move |b: &SimBatch| filter.push_batch(&b.samples, None).map_err(&err))
+                as Consumer<'_>
+        })
+        .collect();
+    feed(&mut sim, SIM_BATCH, threads, &mut consumers, progress)?;
+    drop(consumers);
     filters
         .into_iter()
         .map(|(model, f)| f.finish().map_err(cal_err(model)))

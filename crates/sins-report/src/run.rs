@@ -99,8 +99,14 @@ pub fn run_report(
                 threads,
                 |i, done| {
                     let t = Instant::now();
-                    simulate_and_replay(&exp.scenarios[i], &named, &config.replay, &mut |n| done(n))
-                        .map(|o| (o, t.elapsed().as_secs_f64()))
+                    simulate_and_replay(
+                        &exp.scenarios[i],
+                        &named,
+                        &config.replay,
+                        threads,
+                        &mut |n| done(n),
+                    )
+                    .map(|o| (o, t.elapsed().as_secs_f64()))
                 },
                 &mut |n| progress.advance(n),
             );
@@ -268,6 +274,7 @@ fn resolve_sets(
                     scenarios[r],
                     &models,
                     cal.reference_temperature_degc,
+                    threads,
                     &mut |n| done(n),
                 )
             },

@@ -1,6 +1,8 @@
 //! Standard normal deviates from a seeded ChaCha8 stream by the ziggurat method (Marsaglia and
 //! Tsang 2000, in the symmetric form of Doornik 2005) with 256 layers: one 64-bit draw per
-//! deviate on the fast path (about 99 % of draws), exact wedge and tail tests otherwise.
+//! deviate on the fast path (about 99 % of draws), exact wedge and tail tests otherwise. The
+//! deviates are drawn ahead in blocks, in stream order, so that a stream's sequence is the same
+//! however it is read.
 
 use rand_chacha::ChaCha8Rng;
 use rand_core::{Rng, SeedableRng};
@@ -42,11 +44,17 @@ fn tables() -> &'static Tables {
     })
 }
 
+/// Deviates drawn ahead per refill (1 kB).
+const BLOCK: usize = 128;
+
 /// Standard normal deviates from one ChaCha8 stream of a seed.
 #[derive(Clone, Debug)]
 pub struct GaussianStream {
     rng: ChaCha8Rng,
     tables: &'static Tables,
+    /// The next deviates of the stream, `block[next..]` not yet handed out.
+    block: [f64; BLOCK],
+    next: usize,
 }
 
 impl GaussianStream {
@@ -57,7 +65,29 @@ impl GaussianStream {
         Self {
             rng,
             tables: tables(),
+            block: [0.0; BLOCK],
+            next: BLOCK,
         }
+    }
+
+    /// Next N(0, 1) deviate.
+    #[inline]
+    pub fn next_standard(&mut self) -> f64 {
+        if self.next == BLOCK {
+            self.refill();
+        }
+        let z = self.block[self.next];
+        self.next += 1;
+        z
+    }
+
+    /// The next block of deviates, in stream order.
+    #[inline(never)]
+    fn refill(&mut self) {
+        for i in 0..BLOCK {
+            self.block[i] = self.draw();
+        }
+        self.next = 0;
     }
 
     /// Uniform deviate in (0, 1].
@@ -66,9 +96,9 @@ impl GaussianStream {
         ((self.rng.next_u64() >> 11) + 1) as f64 * (1.0 / (1u64 << 53) as f64)
     }
 
-    /// Next N(0, 1) deviate.
-    #[inline]
-    pub fn next_standard(&mut self) -> f64 {
+    /// The stream's next N(0, 1) deviate by the ziggurat.
+    #[inline(always)]
+    fn draw(&mut self) -> f64 {
         let t = self.tables;
         loop {
             let bits = self.rng.next_u64();

@@ -137,7 +137,7 @@ pub fn run_job(
     replay.reconstruct.threads = 1;
     let mut max_horizontal_m = Vec::with_capacity(scenarios.navigation.len());
     for sc in &scenarios.navigation {
-        let out = simulate_and_replay(sc, &sets, &replay, &mut |n| progress(n)).map_err(fail)?;
+        let out = simulate_and_replay(sc, &sets, &replay, 1, &mut |n| progress(n)).map_err(fail)?;
         max_horizontal_m.push([0, 1].map(|k| out.tracks[k].summary.max_horizontal_m));
     }
     Ok(SampleOutcome {
@@ -173,13 +173,14 @@ fn calibrate(
                 &sc.cal42,
                 &[ParamModel::States30, ParamModel::States42],
                 t_ref,
+                1,
                 &mut p,
             )?;
             Ok((r[0].params, r[1].params))
         }
         Some(cal30) => {
-            let r42 = simulate_and_calibrate(&sc.cal42, &[ParamModel::States42], t_ref, &mut p)?;
-            let r30 = simulate_and_calibrate(cal30, &[ParamModel::States30], t_ref, &mut p)?;
+            let r42 = simulate_and_calibrate(&sc.cal42, &[ParamModel::States42], t_ref, 1, &mut p)?;
+            let r30 = simulate_and_calibrate(cal30, &[ParamModel::States30], t_ref, 1, &mut p)?;
             Ok((r30[0].params, r42[0].params))
         }
     }

@@ -313,11 +313,13 @@ fn point_job_is_the_harness_pipeline_and_summaries_do_not_depend_on_threads_or_s
         .collect();
     assert_eq!(serial, parallel);
     // The point job through the pipeline directly (an independent path: one calibration run,
-    // both filters, the replay with two reconstruction threads).
+    // both filters, the replay with two reconstruction threads; the simulator, the filters and
+    // the replays on threads of their own, where the study ran them on one).
     let cal = simulate_and_calibrate(
         &b.calibration,
         &[ParamModel::States30, ParamModel::States42],
         20.0,
+        3,
         &mut |_| {},
     )
     .unwrap();
@@ -331,7 +333,7 @@ fn point_job_is_the_harness_pipeline_and_summaries_do_not_depend_on_threads_or_s
             params: cal[1].params,
         },
     ];
-    let out = simulate_and_replay(&b.navigation[0], &sets, &b.replay, &mut |_| {}).unwrap();
+    let out = simulate_and_replay(&b.navigation[0], &sets, &b.replay, 2, &mut |_| {}).unwrap();
     let point = &serial[jobs.iter().position(|j| *j == Job::Point).unwrap()];
     assert_eq!(
         point.max_horizontal_m[0],

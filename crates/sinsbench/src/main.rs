@@ -21,6 +21,7 @@ mod diagnose;
 mod gate;
 mod gate_power;
 mod import;
+mod malloc;
 mod navigate;
 mod noise;
 mod out;
@@ -146,6 +147,7 @@ enum Command {
 }
 
 fn main() -> std::process::ExitCode {
+    malloc::tune();
     let cli = Cli::parse();
     let started = std::time::Instant::now();
     if let Err(e) = outputs::install() {

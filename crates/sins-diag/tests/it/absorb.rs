@@ -24,7 +24,7 @@ fn calibration_scenario() -> sins_sim::Scenario {
 /// temperature).
 fn calibrate(sc: &sins_sim::Scenario) -> sins_kf::CalibrationResult {
     let reference = sc.truth.reference_temperature_degc;
-    simulate_and_calibrate(sc, &[ParamModel::States42], reference, &mut |_| {})
+    simulate_and_calibrate(sc, &[ParamModel::States42], reference, 2, &mut |_| {})
         .expect("calibration")
         .pop()
         .expect("one result")
