@@ -5,18 +5,18 @@
 //! back to the system once twice that much of it is free. The Parquet writer's encoder
 //! allocates and frees a page buffer of about 0.5 MB per column and row group, so each page was
 //! written into fresh, zero-filled pages: 0.92 M page faults and 3.0 s of system time for one
-//! 15 h dataset (5.4 s of user time). Blocks up to 32 MB from the heap and 64 MB of free heap
-//! kept bring that to 9 k faults and 0.4-0.6 s. A 4 MB threshold was worse for the noise
-//! identification (0.43 M faults, 1.9 s of system time against 0.5 s by default), whose blocks
-//! of 4-32 MB then came by `mmap` each time; 32 MB gives it 0.4 s. No output changes; the peak
-//! memory grows by a few MB (session 38).
+//! 15 h dataset (5.4 s of user time). Blocks up to 32 MB from the heap and 8 MB of free heap
+//! kept bring that to 7 k faults and 0.9 s. A 4 MB threshold, tried first, made the noise
+//! identification worse (0.43 M faults, 1.9 s of system time against 0.5 s by default), its
+//! blocks of 4-32 MB then coming by `mmap` each time; keeping 64 MB of free heap cost the
+//! diagnosis 84 MB of peak memory for nothing. No output changes (session 38).
 
 /// Largest block served from the heap rather than by `mmap` (bytes).
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 const MMAP_THRESHOLD_BYTES: libc::c_int = 32 << 20;
 /// Free memory kept at the top of a heap before it is given back to the system (bytes).
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
-const TRIM_THRESHOLD_BYTES: libc::c_int = 64 << 20;
+const TRIM_THRESHOLD_BYTES: libc::c_int = 8 << 20;
 
 /// Set the policy above; called once at start, before any thread is started. Elsewhere than
 /// on glibc it does nothing. A refusal (a value out of glibc's range) leaves the default.
