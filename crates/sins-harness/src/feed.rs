@@ -28,22 +28,18 @@ pub fn feed(
     consumers: &mut [Consumer<'_>],
     progress: &mut dyn FnMut(u64),
 ) -> Result<(), HarnessError> {
-    let Some((first, rest)) = consumers.split_first_mut() else {
+    if threads < 2 || consumers.is_empty() {
         return sim.run(batch_len, |b| {
-            progress(b.len() as u64);
-            Ok(())
-        });
-    };
-    if threads < 2 {
-        return sim.run(batch_len, |b| {
-            first(b)?;
-            for c in rest.iter_mut() {
+            for c in consumers.iter_mut() {
                 c(b)?;
             }
             progress(b.len() as u64);
             Ok(())
         });
     }
+    let Some((first, rest)) = consumers.split_first_mut() else {
+        return Ok(());
+    };
     let (senders, mut receivers): (Vec<_>, Vec<_>) = (0..=rest.len())
         .map(|_| sync_channel::<Arc<SimBatch>>(BATCHES_AHEAD))
         .unzip();

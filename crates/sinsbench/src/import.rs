@@ -36,6 +36,8 @@ pub enum NamedFormat {
 
 /// Run `import`.
 pub fn run(args: Args, quiet: bool) -> Result<()> {
+    // Writing a dataset is this command's main cost: keep the Parquet writer's pages.
+    crate::malloc::tune();
     let (mut desc, text, desc_file) = match &args.description {
         Some(p) => {
             let (d, t) = Description::load(p)?;

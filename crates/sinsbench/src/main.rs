@@ -147,7 +147,6 @@ enum Command {
 }
 
 fn main() -> std::process::ExitCode {
-    malloc::tune();
     let cli = Cli::parse();
     let started = std::time::Instant::now();
     if let Err(e) = outputs::install() {

@@ -78,6 +78,8 @@ impl Format {
 
 /// Run `simulate`.
 pub fn run(args: Args, quiet: bool) -> Result<()> {
+    // Writing a dataset is this command's main cost: keep the Parquet writer's pages.
+    crate::malloc::tune();
     let path = args
         .experiment
         .clone()
